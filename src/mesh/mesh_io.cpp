@@ -10,9 +10,9 @@
 #include <algorithm>
 #include <cctype>
 #include <fstream>
-#include <vector>
 
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/mesh/polygon_triangulation.hpp"
 
 namespace deformation_enrichment::mesh {
 namespace {
@@ -38,22 +38,13 @@ TriangleMesh fromPolygonMesh(const pcl::PolygonMesh& polygons, const std::string
     if (!mesh.vertices.col(static_cast<Eigen::Index>(v)).allFinite())
       throw IoError("mesh file '" + path + "': vertex " + std::to_string(v) + " is not finite");
   }
-  std::vector<Eigen::Vector3i> triangles;
-  for (size_t f = 0; f < polygons.polygons.size(); ++f) {
-    const auto& corners = polygons.polygons[f].vertices;
-    if (corners.size() < 3) continue;  // points and lines carry no surface
-    for (const auto index : corners) {
-      if (index < 0 || static_cast<size_t>(index) >= cloud.size())
-        throw IoError("mesh file '" + path + "': face " + std::to_string(f) + " references vertex " +
-                      std::to_string(index) + " of " + std::to_string(cloud.size()));
-    }
-    for (size_t k = 1; k + 1 < corners.size(); ++k)
-      triangles.emplace_back(static_cast<int>(corners[0]), static_cast<int>(corners[k]),
-                             static_cast<int>(corners[k + 1]));
+  try {
+    mesh.triangles = fanTriangulate(polygons.polygons, mesh.numVertices(),
+                                    [](const pcl::Vertices& polygon) -> const auto& { return polygon.vertices; });
+  } catch (const InvalidInputError& e) {
+    throw IoError("mesh file '" + path + "': " + e.what());
   }
-  if (triangles.empty()) throw IoError("mesh file '" + path + "' has no triangles");
-  mesh.triangles.resize(3, static_cast<Eigen::Index>(triangles.size()));
-  for (size_t t = 0; t < triangles.size(); ++t) mesh.triangles.col(static_cast<Eigen::Index>(t)) = triangles[t];
+  if (mesh.numTriangles() == 0) throw IoError("mesh file '" + path + "' has no triangles");
   return mesh;
 }
 
