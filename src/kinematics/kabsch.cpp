@@ -19,13 +19,15 @@ RigidTransform kabsch(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& y, cons
   if (!x.allFinite() || !y.allFinite()) throw InvalidInputError("kabsch: points contain NaN or Inf");
   if (!w.allFinite()) throw InvalidInputError("kabsch: weights contain NaN or Inf");
   if ((w.array() < 0.0).any()) throw InvalidInputError("kabsch: negative weight");
-  const double W = w.sum();
-  if (!(W > 0.0)) throw InvalidInputError("kabsch: all weights are zero");
+  const double wMax = w.maxCoeff();
+  if (!(wMax > 0.0)) throw InvalidInputError("kabsch: all weights are zero");
+  const Eigen::VectorXd wn = w / wMax;  // scale-free; keeps sums of huge or subnormal weights finite
+  const double W = wn.sum();
 
-  const Eigen::Vector3d xBar = x * w / W, yBar = y * w / W;
+  const Eigen::Vector3d xBar = x * wn / W, yBar = y * wn / W;
   // Cross-covariance A = sum w_m (y_m - y_bar)(x_m - x_bar)ᵀ; the optimal rotation is the proper
   // rotation factor of its polar decomposition A = R S (the SVD with the reflection fix).
-  const Eigen::Matrix3d A = (y.colwise() - yBar) * w.asDiagonal() * (x.colwise() - xBar).transpose();
+  const Eigen::Matrix3d A = (y.colwise() - yBar) * wn.asDiagonal() * (x.colwise() - xBar).transpose();
   RigidTransform result;
   result.R = polarDecomposition(A).R;
   result.t = yBar - result.R * xBar;

@@ -16,6 +16,7 @@ namespace {
 constexpr const char* kWhere = "mlsDeformationGradient: ";
 
 struct Moments {
+  double W;  // sum of the normalised weights
   Eigen::Vector3d xBar, yBar;
   Eigen::Matrix3d Apq, Aqq;
 };
@@ -32,18 +33,23 @@ Moments weightedMoments(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& y, co
   if (!y.allFinite()) throw InvalidInputError(std::string(kWhere) + "deformed points contain NaN or Inf");
   if (!w.allFinite()) throw InvalidInputError(std::string(kWhere) + "weights contain NaN or Inf");
   if ((w.array() < 0.0).any()) throw InvalidInputError(std::string(kWhere) + "negative weight");
-  const double W = w.sum();
-  if (!(W > 0.0)) {
+  const double wMax = w.maxCoeff();
+  if (!(wMax > 0.0)) {
     throw InvalidInputError(std::string(kWhere) +
                             "all weights are zero (is the evaluation point far from every sample?)");
   }
+  // F and the centroids do not change when all weights are scaled; scaling by the largest keeps sums of
+  // huge or subnormal weights finite and non-zero.
+  const Eigen::VectorXd wn = w / wMax;
+  const double W = wn.sum();
   Moments m;
-  m.xBar = x * w / W;
-  m.yBar = y * w / W;
+  m.W = W;
+  m.xBar = x * wn / W;
+  m.yBar = y * wn / W;
   const Eigen::Matrix3Xd q = x.colwise() - m.xBar;
   const Eigen::Matrix3Xd p = y.colwise() - m.yBar;
-  m.Apq = p * w.asDiagonal() * q.transpose();
-  m.Aqq = q * w.asDiagonal() * q.transpose();
+  m.Apq = p * wn.asDiagonal() * q.transpose();
+  m.Aqq = q * wn.asDiagonal() * q.transpose();
   return m;
 }
 
@@ -74,7 +80,7 @@ MlsDeformationGradient fitVolume(const Eigen::Matrix3Xd& x, const Eigen::Matrix3
   checkTolerance(options);
   const Moments m = weightedMoments(x, y, w);
   const Eigen::Vector3d lambda = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m.Aqq).eigenvalues();  // ascending
-  checkNotCoincident(lambda[2], w.sum(), m.xBar);
+  checkNotCoincident(lambda[2], m.W, m.xBar);
   const double tol = options.coplanarTolerance;
   if (lambda[1] < tol * lambda[2]) {
     throw InvalidInputError(std::string(kWhere) + "weighted samples are collinear; F is undefined");
@@ -103,7 +109,7 @@ MlsDeformationGradient fitSurface(const Eigen::Matrix3Xd& x, const Eigen::Matrix
     throw InvalidInputError(std::string(kWhere) + "surface normal is the zero vector");
   }
   const Moments m = weightedMoments(x, y, w);
-  checkNotCoincident(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m.Aqq).eigenvalues()[2], w.sum(), m.xBar);
+  checkNotCoincident(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m.Aqq).eigenvalues()[2], m.W, m.xBar);
   const Eigen::Vector3d nx = restNormal.normalized();
   const Eigen::Vector3d ny = deformedNormal.normalized();
 

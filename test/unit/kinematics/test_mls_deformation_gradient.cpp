@@ -185,3 +185,18 @@ TEST(MlsDeformationGradient, BadInputThrowsTypedErrors) {
   one[4] = 1.0;
   EXPECT_THROW(mlsDeformationGradient(x, x, one), InvalidInputError);
 }
+
+// F depends on relative weights only; huge or subnormal weights must neither overflow nor vanish.
+TEST(MlsDeformationGradient, WeightScaleDoesNotMatter) {
+  std::srand(15);
+  const Eigen::Matrix3Xd x = Eigen::Matrix3Xd::Random(3, 12);
+  const Eigen::Matrix3Xd y = x + 0.2 * Eigen::Matrix3Xd::Random(3, 12);
+  const Eigen::VectorXd w = Eigen::VectorXd::Random(12).cwiseAbs();
+  const auto reference = mlsDeformationGradient(x, y, w);
+  for (double scale : {1e300, 1e-310}) {
+    const auto scaled = mlsDeformationGradient(x, y, Eigen::VectorXd(scale * w));
+    EXPECT_TRUE(scaled.F.allFinite());
+    EXPECT_LT((scaled.F - reference.F).norm(), 1e-9);
+    EXPECT_LT((scaled.yBar - reference.yBar).norm(), 1e-12);
+  }
+}
