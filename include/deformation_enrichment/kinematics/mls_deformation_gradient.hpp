@@ -36,7 +36,7 @@ struct MlsOptions {
 };
 
 struct MlsDeformationGradient {
-  Eigen::Matrix3d F;           ///< deformation gradient, F = A_pq A_qq^-1 (completed if flat)
+  Eigen::Matrix3d F;           ///< deformation gradient (volume: A_pq A_qq^-1; surface: G + lambda n_y n_xᵀ)
   Eigen::Vector3d xBar;        ///< weighted rest centroid x_bar = sum w_m x_m / sum w_m
   Eigen::Vector3d yBar;        ///< weighted deformed centroid y_bar = sum w_m y_m / sum w_m
   bool normalCompleted = false;  ///< true if the normal column came from the surface normals (surface samples)
