@@ -6,8 +6,9 @@ set(DE_CATKIN_COMPONENTS
 find_package(catkin REQUIRED COMPONENTS ${DE_CATKIN_COMPONENTS})
 
 add_message_files(DIRECTORY msg FILES ToolContact.msg ToolContactArray.msg EnrichmentStatus.msg)
-add_service_files(DIRECTORY srv FILES LoadExampleSet.srv SegmentSites.srv)
-generate_messages(DEPENDENCIES std_msgs geometry_msgs sensor_msgs)
+add_service_files(DIRECTORY srv FILES LoadExampleSet.srv SegmentSites.srv SmoothSequence.srv ComputeGeodesic.srv
+  BezierCurve.srv)
+generate_messages(DEPENDENCIES std_msgs geometry_msgs sensor_msgs pcl_msgs)
 
 catkin_package(
   INCLUDE_DIRS include
