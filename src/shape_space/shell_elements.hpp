@@ -90,31 +90,16 @@ T hingeWeight(const std::array<T, 5>& q, double c) {
   return c * q[0] / (triangleArea(q[0], q[1], q[2]) + triangleArea(q[0], q[3], q[4]));
 }
 
-/// Evaluates f(q_deformed[ND], q_reference[NR]) and chains its derivatives to the NV local vertices,
-/// adding weight times the requested outputs to out.
-template <int NV, int ND, int NR, class F>
-void addSquaredLengthTerm(const F& f, const std::array<Eigen::Vector3d, NV>& deformed,
-                          const std::array<Eigen::Vector3d, NV>& reference, const std::array<LocalEdge, ND>& deformedEdges,
-                          const std::array<LocalEdge, NR>& referenceEdges, unsigned need, double weight, LocalTerm<NV>& out) {
+/// Chain rule from derivatives in the squared edge lengths (value, g, H) to the vertex positions.
+template <int NV, int ND, int NR>
+void chainToPositions(double value, const Eigen::Matrix<double, ND + NR, 1>& g,
+                      const Eigen::Matrix<double, ND + NR, ND + NR>& H,
+                      const std::array<Eigen::Vector3d, ND + NR>& edgeVectors,
+                      const std::array<LocalEdge, ND>& deformedEdges, const std::array<LocalEdge, NR>& referenceEdges,
+                      unsigned need, double weight, LocalTerm<NV>& out) {
   constexpr int N = ND + NR;
   constexpr int D = 3 * NV;
-  std::array<double, N> q;
-  std::array<Eigen::Vector3d, N> edgeVectors;
-  for (int m = 0; m < N; ++m) {
-    const bool isDeformed = m < ND;
-    const LocalEdge& edge = isDeformed ? deformedEdges[m] : referenceEdges[m - ND];
-    const auto& x = isDeformed ? deformed : reference;
-    edgeVectors[m] = x[edge[0]] - x[edge[1]];
-    q[m] = edgeVectors[m].squaredNorm();
-  }
-  if ((need & ~kValue) == 0u) {
-    out.value += weight * f(q);
-    return;
-  }
-  std::array<Jet2<N>, N> qJet;
-  for (int m = 0; m < N; ++m) qJet[m] = Jet2<N>::variable(q[m], m);
-  const Jet2<N> r = f(qJet);
-  out.value += weight * r.v;
+  out.value += weight * value;
   // Jacobian dq/dx of the deformed (rows 0..ND-1) and reference (rows ND..N-1) squared lengths.
   Eigen::Matrix<double, N, D> jacobian = Eigen::Matrix<double, N, D>::Zero();
   for (int m = 0; m < N; ++m) {
@@ -134,20 +119,55 @@ void addSquaredLengthTerm(const F& f, const std::array<Eigen::Vector3d, NV>& def
   };
   const auto jacobianDeformed = jacobian.template topRows<ND>();
   const auto jacobianReference = jacobian.template bottomRows<NR>();
-  if (need & kGradientDeformed) out.gradientDeformed += weight * jacobianDeformed.transpose() * r.g.template head<ND>();
-  if (need & kGradientReference) out.gradientReference += weight * jacobianReference.transpose() * r.g.template tail<NR>();
+  if (need & kGradientDeformed) out.gradientDeformed += weight * jacobianDeformed.transpose() * g.template head<ND>();
+  if (need & kGradientReference) out.gradientReference += weight * jacobianReference.transpose() * g.template tail<NR>();
   if (need & kHessianDeformed) {
-    out.hessianDeformed += weight * jacobianDeformed.transpose() * r.H.template topLeftCorner<ND, ND>() * jacobianDeformed;
-    for (int m = 0; m < ND; ++m) addLengthCurvature(out.hessianDeformed, deformedEdges[m], r.g[m]);
+    out.hessianDeformed += weight * jacobianDeformed.transpose() * H.template topLeftCorner<ND, ND>() * jacobianDeformed;
+    for (int m = 0; m < ND; ++m) addLengthCurvature(out.hessianDeformed, deformedEdges[m], g[m]);
   }
   if (need & kHessianMixed) {
-    out.hessianMixed += weight * jacobianReference.transpose() * r.H.template bottomLeftCorner<NR, ND>() * jacobianDeformed;
+    out.hessianMixed += weight * jacobianReference.transpose() * H.template bottomLeftCorner<NR, ND>() * jacobianDeformed;
   }
   if (need & kHessianReference) {
     out.hessianReference +=
-        weight * jacobianReference.transpose() * r.H.template bottomRightCorner<NR, NR>() * jacobianReference;
-    for (int m = 0; m < NR; ++m) addLengthCurvature(out.hessianReference, referenceEdges[m], r.g[ND + m]);
+        weight * jacobianReference.transpose() * H.template bottomRightCorner<NR, NR>() * jacobianReference;
+    for (int m = 0; m < NR; ++m) addLengthCurvature(out.hessianReference, referenceEdges[m], g[ND + m]);
   }
+}
+
+/// Evaluates f(q_deformed[ND], q_reference[NR]) and chains its derivatives to the NV local vertices,
+/// adding weight times the requested outputs to out.
+template <int NV, int ND, int NR, class F>
+void addSquaredLengthTerm(const F& f, const std::array<Eigen::Vector3d, NV>& deformed,
+                          const std::array<Eigen::Vector3d, NV>& reference, const std::array<LocalEdge, ND>& deformedEdges,
+                          const std::array<LocalEdge, NR>& referenceEdges, unsigned need, double weight, LocalTerm<NV>& out) {
+  constexpr int N = ND + NR;
+  std::array<double, N> q;
+  std::array<Eigen::Vector3d, N> edgeVectors;
+  for (int m = 0; m < N; ++m) {
+    const bool isDeformed = m < ND;
+    const LocalEdge& edge = isDeformed ? deformedEdges[m] : referenceEdges[m - ND];
+    const auto& x = isDeformed ? deformed : reference;
+    edgeVectors[m] = x[edge[0]] - x[edge[1]];
+    q[m] = edgeVectors[m].squaredNorm();
+  }
+  if ((need & ~kValue) == 0u) {
+    out.value += weight * f(q);
+    return;
+  }
+  // Second-order jets only when a Hessian block is requested; gradients need first order.
+  if ((need & kAnyHessian) == 0u) {
+    std::array<Jet2<N, false>, N> qJet;
+    for (int m = 0; m < N; ++m) qJet[m] = Jet2<N, false>::variable(q[m], m);
+    const Jet2<N, false> r = f(qJet);
+    chainToPositions<NV, ND, NR>(r.v, r.g, Eigen::Matrix<double, N, N>::Zero(), edgeVectors, deformedEdges,
+                                 referenceEdges, need, weight, out);
+    return;
+  }
+  std::array<Jet2<N>, N> qJet;
+  for (int m = 0; m < N; ++m) qJet[m] = Jet2<N>::variable(q[m], m);
+  const Jet2<N> r = f(qJet);
+  chainToPositions<NV, ND, NR>(r.v, r.g, r.H, edgeVectors, deformedEdges, referenceEdges, need, weight, out);
 }
 
 }  // namespace deformation_enrichment::shape_space::detail

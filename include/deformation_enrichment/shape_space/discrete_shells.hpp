@@ -26,6 +26,16 @@ namespace deformation_enrichment::shape_space {
 
 enum class MembraneModel { DiscreteShells, Hyperelastic };
 
+namespace detail {
+/// Fixed sparsity of the Hessian blocks: vertex pairs that share a triangle or a hinge (built once).
+struct HessianPattern {
+  std::vector<int> neighbourStart;  ///< per vertex, range into neighbours (size V + 1)
+  std::vector<int> neighbours;      ///< sorted neighbour vertices, each vertex included in its own list
+  std::vector<int> outer;           ///< compressed column starts of zeros (size 3V + 1)
+  Eigen::SparseMatrix<double> zeros;  ///< 3V x 3V, the pattern with zero values
+};
+}  // namespace detail
+
 struct DiscreteShellsParameters {
   MembraneModel membrane = MembraneModel::Hyperelastic;
   double lengthWeight = 0.5;  ///< k_L (DiscreteShells membrane only)
@@ -98,6 +108,7 @@ private:
   ShellEvaluation assemble(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed, unsigned outputs,
                            unsigned parts) const;
   void checkTriangles(const Eigen::VectorXd& shape, const char* name) const;
+  void buildHessianPattern();
 
   Eigen::Matrix3Xi triangles_;
   Eigen::Index numVertices_ = 0;
@@ -106,6 +117,7 @@ private:
   std::vector<Eigen::Vector4i> hinges_;  ///< (i, j, k, l): edge i -> j as in triangle (i, j, k), l opposite
   Eigen::Index numBoundaryEdges_ = 0;
   Eigen::Index numNonManifoldEdges_ = 0;
+  detail::HessianPattern pattern_;
   int threads_ = 1;
 };
 
