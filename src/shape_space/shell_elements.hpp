@@ -135,6 +135,24 @@ void chainToPositions(double value, const Eigen::Matrix<double, ND + NR, 1>& g,
   }
 }
 
+/// Jets over the K squared lengths q[first .. first + K) (the rest constant), then the chain rule.
+template <int K, bool kSecond, int first, int NV, int ND, int NR, class F>
+void differentiateIn(const F& f, const std::array<double, ND + NR>& q,
+                     const std::array<Eigen::Vector3d, ND + NR>& edgeVectors, const std::array<LocalEdge, ND>& deformedEdges,
+                     const std::array<LocalEdge, NR>& referenceEdges, unsigned need, double weight, LocalTerm<NV>& out) {
+  constexpr int N = ND + NR;
+  std::array<Jet2<K, kSecond>, N> qJet;
+  for (int m = 0; m < N; ++m) {
+    qJet[m] = (m >= first && m < first + K) ? Jet2<K, kSecond>::variable(q[m], m - first) : Jet2<K, kSecond>(q[m]);
+  }
+  const Jet2<K, kSecond> r = f(qJet);
+  Eigen::Matrix<double, N, 1> g = Eigen::Matrix<double, N, 1>::Zero();
+  Eigen::Matrix<double, N, N> H = Eigen::Matrix<double, N, N>::Zero();
+  g.template segment<K>(first) = r.g;
+  if constexpr (kSecond) H.template block<K, K>(first, first) = r.H;
+  chainToPositions<NV, ND, NR>(r.v, g, H, edgeVectors, deformedEdges, referenceEdges, need, weight, out);
+}
+
 /// Evaluates f(q_deformed[ND], q_reference[NR]) and chains its derivatives to the NV local vertices,
 /// adding weight times the requested outputs to out.
 template <int NV, int ND, int NR, class F>
@@ -155,19 +173,25 @@ void addSquaredLengthTerm(const F& f, const std::array<Eigen::Vector3d, NV>& def
     out.value += weight * f(q);
     return;
   }
-  // Second-order jets only when a Hessian block is requested; gradients need first order.
-  if ((need & kAnyHessian) == 0u) {
-    std::array<Jet2<N, false>, N> qJet;
-    for (int m = 0; m < N; ++m) qJet[m] = Jet2<N, false>::variable(q[m], m);
-    const Jet2<N, false> r = f(qJet);
-    chainToPositions<NV, ND, NR>(r.v, r.g, Eigen::Matrix<double, N, N>::Zero(), edgeVectors, deformedEdges,
-                                 referenceEdges, need, weight, out);
-    return;
+  // Differentiate only in the squared lengths the requested outputs depend on (the others enter as
+  // constants), and to second order only when a Hessian block is requested.
+  constexpr unsigned kDeformedOnly = kValue | kGradientDeformed | kHessianDeformed;
+  constexpr unsigned kReferenceOnly = kValue | kGradientReference | kHessianReference;
+  const bool second = (need & kAnyHessian) != 0u;
+  if constexpr (ND > 0) {
+    if ((need & ~kDeformedOnly) == 0u) {
+      if (second) return differentiateIn<ND, true, 0, NV, ND, NR>(f, q, edgeVectors, deformedEdges, referenceEdges, need, weight, out);
+      return differentiateIn<ND, false, 0, NV, ND, NR>(f, q, edgeVectors, deformedEdges, referenceEdges, need, weight, out);
+    }
   }
-  std::array<Jet2<N>, N> qJet;
-  for (int m = 0; m < N; ++m) qJet[m] = Jet2<N>::variable(q[m], m);
-  const Jet2<N> r = f(qJet);
-  chainToPositions<NV, ND, NR>(r.v, r.g, r.H, edgeVectors, deformedEdges, referenceEdges, need, weight, out);
+  if constexpr (NR > 0) {
+    if ((need & ~kReferenceOnly) == 0u) {
+      if (second) return differentiateIn<NR, true, ND, NV, ND, NR>(f, q, edgeVectors, deformedEdges, referenceEdges, need, weight, out);
+      return differentiateIn<NR, false, ND, NV, ND, NR>(f, q, edgeVectors, deformedEdges, referenceEdges, need, weight, out);
+    }
+  }
+  if (second) return differentiateIn<N, true, 0, NV, ND, NR>(f, q, edgeVectors, deformedEdges, referenceEdges, need, weight, out);
+  differentiateIn<N, false, 0, NV, ND, NR>(f, q, edgeVectors, deformedEdges, referenceEdges, need, weight, out);
 }
 
 }  // namespace deformation_enrichment::shape_space::detail
