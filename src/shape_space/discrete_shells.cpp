@@ -91,20 +91,26 @@ void addHingeTerm(const std::array<Eigen::Vector3d, 4>& x, const std::array<Eige
                   double weight, unsigned need, LocalTerm<4>& out) {
   const bool needDeformedAngle = (need & (detail::kGradientDeformed | detail::kHessianDeformed | detail::kHessianMixed)) != 0u;
   const bool needReferenceDerivatives = (need & (detail::kGradientReference | detail::kHessianMixed | detail::kHessianReference)) != 0u;
-  const HingeAngle theta = needDeformedAngle
-                               ? dihedralAngleDerivatives(x[0], x[1], x[2], x[3], (need & detail::kHessianDeformed) != 0u)
-                               : HingeAngle{dihedralAngle(x[0], x[1], x[2], x[3])};
-  const HingeAngle thetaBar = needReferenceDerivatives
-                                  ? dihedralAngleDerivatives(xBar[0], xBar[1], xBar[2], xBar[3], (need & detail::kHessianReference) != 0u)
-                                  : HingeAngle{dihedralAngle(xBar[0], xBar[1], xBar[2], xBar[3])};
+  // Angle derivatives only when needed (a HingeAngle carries a 12 x 12 Hessian).
+  HingeAngle theta, thetaBar;
+  if (needDeformedAngle) {
+    theta = dihedralAngleDerivatives(x[0], x[1], x[2], x[3], (need & detail::kHessianDeformed) != 0u);
+  } else {
+    theta.theta = dihedralAngle(x[0], x[1], x[2], x[3]);
+  }
+  if (needReferenceDerivatives) {
+    thetaBar = dihedralAngleDerivatives(xBar[0], xBar[1], xBar[2], xBar[3], (need & detail::kHessianReference) != 0u);
+  } else {
+    thetaBar.theta = dihedralAngle(xBar[0], xBar[1], xBar[2], xBar[3]);
+  }
   // w_bar and its derivatives: a function of five reference squared lengths (no deformed ones).
   static constexpr std::array<LocalEdge, 0> kNoEdges{};
   static constexpr std::array<LocalEdge, 5> kHingeEdges{{{0, 1}, {1, 2}, {2, 0}, {0, 3}, {3, 1}}};
-  LocalTerm<4> w;
   const unsigned weightNeed = needReferenceDerivatives
                                   ? (detail::kValue | detail::kGradientReference |
                                      ((need & detail::kHessianReference) ? detail::kHessianReference : 0u))
                                   : detail::kValue;
+  LocalTerm<4> w(weightNeed);
   detail::addSquaredLengthTerm<4, 0, 5>([c](const auto& q) { return detail::hingeWeight(q, c); }, x, xBar, kNoEdges,
                                         kHingeEdges, weightNeed, 1.0, w);
   const double d = theta.theta - thetaBar.theta;
@@ -325,7 +331,7 @@ ShellEvaluation DiscreteShells::assemble(const Eigen::VectorXd& reference, const
       const std::array<int, 3> v{triangles_(0, t), triangles_(1, t), triangles_(2, t)};
       const auto x = gather<3>(deformed, v);
       const auto xBar = gather<3>(reference, v);
-      LocalTerm<3> term;
+      LocalTerm<3> term(need);
       if (hyperelastic) {  // Heeren et al. 2012 eq. 8
         detail::addSquaredLengthTerm<3, 3, 3>([&p](const auto& q) { return detail::hyperelasticMembrane(q, p.mu, p.lambda); },
                                               x, xBar, kTriangleEdges, kTriangleEdges, need, 1.0, term);
@@ -338,7 +344,7 @@ ShellEvaluation DiscreteShells::assemble(const Eigen::VectorXd& reference, const
 #pragma omp for schedule(static) nowait
     for (Eigen::Index e = 0; e < numEdgeTerms; ++e) {  // Grinspun et al. 2003 edge-length term
       const std::array<int, 2> v{edges_[e][0], edges_[e][1]};
-      LocalTerm<2> term;
+      LocalTerm<2> term(need);
       detail::addSquaredLengthTerm<2, 1, 1>([&p](const auto& q) { return detail::discreteShellsEdge(q, p.lengthWeight); },
                                             gather<2>(deformed, v), gather<2>(reference, v), kEdge, kEdge, need, 1.0, term);
       scatter<2>(term, v, need, pattern_, acc);
@@ -346,7 +352,7 @@ ShellEvaluation DiscreteShells::assemble(const Eigen::VectorXd& reference, const
 #pragma omp for schedule(static) nowait
     for (Eigen::Index h = 0; h < numHingeTerms; ++h) {  // bending, weighted as in the header
       const std::array<int, 4> v{hinges_[h][0], hinges_[h][1], hinges_[h][2], hinges_[h][3]};
-      LocalTerm<4> term;
+      LocalTerm<4> term(need);
       addHingeTerm(gather<4>(deformed, v), gather<4>(reference, v), hingeFactor, p.bendingWeight, need, term);
       scatter<4>(term, v, need, pattern_, acc);
     }

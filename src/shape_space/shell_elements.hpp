@@ -26,15 +26,22 @@ enum Need : unsigned {
 constexpr unsigned kAnyHessian = kHessianDeformed | kHessianMixed | kHessianReference;
 
 /// Value and derivatives of one local term over NV vertices; rows of hessianMixed index the reference.
+/// Only the parts named in reset(need) are initialised (zeroing unused 12 x 12 blocks costs more than
+/// some terms themselves).
 template <int NV>
 struct LocalTerm {
   static constexpr int D = 3 * NV;
   double value = 0.0;
-  Eigen::Matrix<double, D, 1> gradientDeformed = Eigen::Matrix<double, D, 1>::Zero();
-  Eigen::Matrix<double, D, 1> gradientReference = Eigen::Matrix<double, D, 1>::Zero();
-  Eigen::Matrix<double, D, D> hessianDeformed = Eigen::Matrix<double, D, D>::Zero();
-  Eigen::Matrix<double, D, D> hessianMixed = Eigen::Matrix<double, D, D>::Zero();
-  Eigen::Matrix<double, D, D> hessianReference = Eigen::Matrix<double, D, D>::Zero();
+  Eigen::Matrix<double, D, 1> gradientDeformed, gradientReference;
+  Eigen::Matrix<double, D, D> hessianDeformed, hessianMixed, hessianReference;
+
+  explicit LocalTerm(unsigned need) {
+    if (need & kGradientDeformed) gradientDeformed.setZero();
+    if (need & kGradientReference) gradientReference.setZero();
+    if (need & kHessianDeformed) hessianDeformed.setZero();
+    if (need & kHessianMixed) hessianMixed.setZero();
+    if (need & kHessianReference) hessianReference.setZero();
+  }
 };
 
 using LocalEdge = std::array<int, 2>;
