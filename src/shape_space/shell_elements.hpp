@@ -91,7 +91,7 @@ T discreteShellsArea(const std::array<T, 6>& q, double kA) {
 }
 
 /// Bending weight c |e_bar|^2 / (A_bar_1 + A_bar_2) of a hinge (i, j, k, l), q = |ij|^2, |jk|^2, |ki|^2, |il|^2, |lj|^2.
-/// c = 3 is Grinspun et al.'s |e_bar| / h_bar_e with h_bar_e a third of the summed heights; c = 1 is GOAST's.
+/// c = 3 is Grinspun et al.'s |e_bar| / h_bar_e with h_bar_e a third of the average height of the two triangles; c = 1 is GOAST's.
 template <class T>
 T hingeWeight(const std::array<T, 5>& q, double c) {
   return c * q[0] / (triangleArea(q[0], q[1], q[2]) + triangleArea(q[0], q[3], q[4]));

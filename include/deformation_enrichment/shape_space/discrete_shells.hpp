@@ -7,8 +7,8 @@
 //  - Hyperelastic (Heeren et al. 2012 eq. 8, as in GOAST): sum_t A_bar W(tr G, det G), G = g_bar^-1 g,
 //    W(a, d) = mu/2 a + lambda/4 d - (mu/2 + lambda/4) log d - mu - lambda/4.
 // Bending: sum_e (theta_e - theta_bar_e)^2 c |e_bar|^2 / (A_bar_1 + A_bar_2), theta the dihedral angle;
-//   c = 3 with the DiscreteShells membrane (Grinspun et al.'s |e_bar| / h_bar_e, h_bar_e a third of the summed
-//   heights of the two triangles) and c = 1 with the Hyperelastic membrane (GOAST's SimpleBendingEnergy).
+//   c = 3 with the DiscreteShells membrane (Grinspun et al.'s |e_bar| / h_bar_e, h_bar_e a third of the average
+//   height of the two triangles) and c = 1 with the Hyperelastic membrane (GOAST's SimpleBendingEnergy).
 //
 // Non-manifold input: only edges shared by exactly two triangles carry a bending term. Boundary edges (one
 // triangle) and edges with three or more triangles are skipped for bending (counted, see below); every
