@@ -113,7 +113,9 @@ void addHingeTerm(const std::array<Eigen::Vector3d, 4>& x, const std::array<Eige
   LocalTerm<4> w(weightNeed);
   detail::addSquaredLengthTerm<4, 0, 5>([c](const auto& q) { return detail::hingeWeight(q, c); }, x, xBar, kNoEdges,
                                         kHingeEdges, weightNeed, 1.0, w);
-  const double d = theta.theta - thetaBar.theta;
+  // The angle difference is taken modulo 2 pi into [-pi, pi]: a hinge folding through +-pi changes by a
+  // little, not by 2 pi (the derivatives are unaffected; the shift is locally constant).
+  const double d = std::remainder(theta.theta - thetaBar.theta, 2.0 * M_PI);
   const double wBar = w.value;
   out.value += weight * d * d * wBar;
   if (need & detail::kGradientDeformed) out.gradientDeformed += weight * 2.0 * d * wBar * theta.gradient;
@@ -214,7 +216,11 @@ DiscreteShells::DiscreteShells(const Eigen::Matrix3Xi& triangles, Eigen::Index n
       for (int b = 0; b < 3; ++b) {
         if (triangles(b, t2) != u && triangles(b, t2) != v) l = triangles(b, t2);
       }
-      if (l != k) hinges_.emplace_back(i, j, k, l);  // two triangles on the same three vertices: no hinge
+      if (l != k) {
+        hinges_.emplace_back(i, j, k, l);
+      } else {
+        ++numNonManifoldEdges_;  // a duplicated triangle: no hinge to bend
+      }
     }
     begin = end;
   }

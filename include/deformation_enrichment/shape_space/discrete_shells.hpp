@@ -11,9 +11,11 @@
 //   height of the two triangles) and c = 1 with the Hyperelastic membrane (GOAST's SimpleBendingEnergy).
 //
 // Non-manifold input: only edges shared by exactly two triangles carry a bending term. Boundary edges (one
-// triangle) and edges with three or more triangles are skipped for bending (counted, see below); every
+// triangle) and edges with three or more triangles (or two copies of one triangle) are skipped for bending
+// (counted, see numBoundaryEdges / numNonManifoldEdges); every
 // triangle and every distinct edge still carries its membrane term. Inconsistent triangle orientation is
-// accepted: each hinge's angle is measured from its first triangle's winding.
+// accepted: each hinge's angle is measured from its first triangle's winding. theta - theta_bar is taken
+// modulo 2 pi (in [-pi, pi]), so a hinge folding through +-pi does not jump.
 // A triangle whose area is below 1e-8 times its summed squared edge lengths, in either shape, is
 // degenerate: every evaluation then throws InvalidInputError naming the triangle and the shape.
 #include <Eigen/Core>

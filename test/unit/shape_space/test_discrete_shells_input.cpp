@@ -3,6 +3,7 @@
 // raise InvalidInputError naming the problem, and nearly degenerate (but valid) triangles stay finite.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <limits>
 #include <string>
 
@@ -64,6 +65,37 @@ TEST(DiscreteShellsInput, EdgeWithThreeTrianglesIsSkippedForBending) {
   const ShellEvaluation r = finEnergy.evaluate(x, folded, kAllOutputs);
   EXPECT_TRUE(allFinite(r));
   EXPECT_GT(r.value, 0.0);  // the membrane still sees the stretched triangle
+}
+
+TEST(DiscreteShellsInput, HingeFoldingThroughPiDoesNotJump) {
+  // Wing l turns about the edge (0,0,0)-(1,0,0); phi = 0 is flat, phi = pi folds it onto wing k.
+  auto hinge = [](double phi) {
+    VectorXd x(12);
+    x << 0, 0, 0, 1, 0, 0, 0.5, 1, 0, 0.5, -std::cos(phi), std::sin(phi);
+    return x;
+  };
+  Eigen::Matrix3Xi triangles(3, 2);
+  triangles << 0, 1, 1, 0, 2, 3;
+  const DiscreteShells energy(triangles, 4, DiscreteShellsParameters::classic());
+  ASSERT_EQ(energy.numHinges(), 1);
+  const double acrossPi = energy.bendingValue(hinge(M_PI - 0.05), hinge(M_PI + 0.05));
+  const double belowPi = energy.bendingValue(hinge(M_PI - 0.15), hinge(M_PI - 0.05));
+  EXPECT_GT(belowPi, 0.0);
+  EXPECT_NEAR(acrossPi, belowPi, 1e-9 * belowPi);
+  // Same 0.1 rad change as in a flat region: the weight 3 |e|^2 / (A1 + A2) = 3 here.
+  EXPECT_NEAR(belowPi, 3.0 * 0.01, 1e-9);
+  EXPECT_NEAR(energy.bendingValue(hinge(0.0), hinge(0.1)), belowPi, 1e-9 * belowPi);
+}
+
+TEST(DiscreteShellsInput, DuplicatedTriangleCountsAsNonManifold) {
+  VectorXd x(9);
+  x << 0, 0, 0, 1, 0, 0, 0, 1, 0;
+  Eigen::Matrix3Xi twice(3, 2);
+  twice << 0, 0, 1, 2, 2, 1;  // the same triangle with opposite winding
+  const DiscreteShells energy(twice, 3, DiscreteShellsParameters::hyperelastic());
+  EXPECT_EQ(energy.numHinges(), 0);
+  EXPECT_EQ(energy.numNonManifoldEdges(), 3);
+  EXPECT_TRUE(std::isfinite(energy.value(x, 1.1 * x)));
 }
 
 TEST(DiscreteShellsInput, FinOnAGridRemovesOnlyItsOwnHinge) {
