@@ -18,6 +18,11 @@
 // modulo 2 pi (in [-pi, pi]), so a hinge folding through +-pi does not jump.
 // A triangle whose area is below 1e-8 times its summed squared edge lengths, in either shape, is
 // degenerate: every evaluation then throws InvalidInputError naming the triangle and the shape.
+//
+// Evaluations are const and keep no state, so several threads may evaluate one DiscreteShells at once (each
+// call runs its own OpenMP loop over triangles, edges and hinges; nested inside an outer parallel region it
+// runs serially unless nesting is enabled). Hessians share one sparsity pattern (vertex pairs sharing a
+// triangle or a hinge), so blocks from different calls add without reallocation.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <vector>
