@@ -116,5 +116,41 @@ TEST(DiscreteShells, MatchesGoastOnTheFingerPair) {
   EXPECT_NEAR(w, 0.0919995, 1e-7);  // the published value has 7 significant digits
 }
 
+// Directional finite differences of every derivative on the real finger pair (2k vertices, a scanned-like
+// surface rather than a synthetic grid), for both membranes.
+TEST(DiscreteShells, DirectionalDerivativesOnTheFingerPair) {
+  const std::string directory = std::string(DE_SOURCE_DIR) + "/../shared/data/finger/";
+  if (!std::ifstream(directory + "finger0.ply") || !std::ifstream(directory + "finger1.ply")) {
+    GTEST_SKIP() << "shared data not found at " << directory << " (finger0.ply, finger1.ply)";
+  }
+  const mesh::TriangleMesh finger0 = mesh::readTriangleMesh(directory + "finger0.ply");
+  const mesh::TriangleMesh finger1 = mesh::readTriangleMesh(directory + "finger1.ply");
+  const VectorXd reference = flatten(finger0.vertices), deformed = flatten(finger1.vertices);
+  const VectorXd direction = test::perturbed(VectorXd::Zero(reference.size()), 1.0, 17);
+  const double h = 1e-6;
+  for (const auto& parameters : kModels) {
+    const DiscreteShells energy(finger0.triangles, finger0.numVertices(), parameters);
+    const ShellEvaluation r = energy.evaluate(reference, deformed, kAllOutputs);
+    auto relative = [](const VectorXd& a, const VectorXd& b) { return (a - b).norm() / b.norm(); };
+    // Along the deformed argument.
+    const ShellEvaluation plus = energy.evaluate(reference, deformed + h * direction, kAllOutputs);
+    const ShellEvaluation minus = energy.evaluate(reference, deformed - h * direction, kAllOutputs);
+    EXPECT_NEAR(r.gradientDeformed.dot(direction), (plus.value - minus.value) / (2 * h),
+                1e-6 * std::abs(r.gradientDeformed.dot(direction)));
+    EXPECT_LT(relative(r.hessianDeformed * direction, (plus.gradientDeformed - minus.gradientDeformed) / (2 * h)), 1e-6);
+    EXPECT_LT(relative(r.hessianMixed * direction, (plus.gradientReference - minus.gradientReference) / (2 * h)), 1e-6);
+    // Along the reference argument.
+    const ShellEvaluation plusRef = energy.evaluate(reference + h * direction, deformed, kAllOutputs);
+    const ShellEvaluation minusRef = energy.evaluate(reference - h * direction, deformed, kAllOutputs);
+    EXPECT_NEAR(r.gradientReference.dot(direction), (plusRef.value - minusRef.value) / (2 * h),
+                1e-6 * std::abs(r.gradientReference.dot(direction)));
+    EXPECT_LT(relative(r.hessianReference * direction, (plusRef.gradientReference - minusRef.gradientReference) / (2 * h)),
+              1e-6);
+    EXPECT_LT(relative(VectorXd(r.hessianMixed.transpose() * direction),
+                       (plusRef.gradientDeformed - minusRef.gradientDeformed) / (2 * h)),
+              1e-6);
+  }
+}
+
 }  // namespace
 }  // namespace deformation_enrichment::shape_space
