@@ -387,6 +387,23 @@ ShellEvaluation DiscreteShells::evaluate(const Eigen::VectorXd& reference, const
   return assemble(reference, deformed, outputs, kMembrane | kBending);
 }
 
+void DiscreteShells::evaluate(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed,
+                              const EnergyOutputs& outputs) const {
+  const unsigned requested = (outputs.value ? kValue : 0u) | (outputs.gradientDeformed ? kGradientDeformed : 0u) |
+                             (outputs.gradientReference ? kGradientReference : 0u) |
+                             (outputs.hessianDeformed ? kHessianDeformed : 0u) |
+                             (outputs.hessianMixed ? kHessianMixed : 0u) |
+                             (outputs.hessianReference ? kHessianReference : 0u);
+  if (requested == 0u) return;
+  ShellEvaluation r = assemble(reference, deformed, requested, kMembrane | kBending);
+  if (outputs.value) *outputs.value = r.value;
+  if (outputs.gradientDeformed) *outputs.gradientDeformed = std::move(r.gradientDeformed);
+  if (outputs.gradientReference) *outputs.gradientReference = std::move(r.gradientReference);
+  if (outputs.hessianDeformed) *outputs.hessianDeformed = std::move(r.hessianDeformed);
+  if (outputs.hessianMixed) *outputs.hessianMixed = std::move(r.hessianMixed);
+  if (outputs.hessianReference) *outputs.hessianReference = std::move(r.hessianReference);
+}
+
 double DiscreteShells::value(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const {
   return assemble(reference, deformed, kValue, kMembrane | kBending).value;
 }

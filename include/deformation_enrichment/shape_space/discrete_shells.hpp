@@ -94,6 +94,9 @@ public:
 
   /// Several outputs in one pass over the mesh (outputs: OR of Output flags).
   ShellEvaluation evaluate(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed, unsigned outputs) const;
+  /// The interface's several-outputs call, in one pass over the mesh.
+  void evaluate(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed,
+                const EnergyOutputs& outputs) const override;
 
   /// Membrane and bending parts separately (bending already multiplied by bendingWeight).
   double membraneValue(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const;

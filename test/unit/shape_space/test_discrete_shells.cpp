@@ -81,6 +81,47 @@ TEST(DiscreteShells, InvariantToRigidMotionsOfEitherArgument) {
   }
 }
 
+// Forwards only the single-output methods, so evaluate(..., EnergyOutputs) runs the interface's default.
+class ForwardingEnergy final : public DeformationEnergy {
+public:
+  explicit ForwardingEnergy(const DiscreteShells& inner) : inner_(inner) {}
+  Eigen::Index numVertices() const override { return inner_.numVertices(); }
+  double value(const VectorXd& r, const VectorXd& d) const override { return inner_.value(r, d); }
+  VectorXd gradientDeformed(const VectorXd& r, const VectorXd& d) const override { return inner_.gradientDeformed(r, d); }
+  VectorXd gradientReference(const VectorXd& r, const VectorXd& d) const override { return inner_.gradientReference(r, d); }
+  Eigen::SparseMatrix<double> hessianDeformed(const VectorXd& r, const VectorXd& d) const override {
+    return inner_.hessianDeformed(r, d);
+  }
+  Eigen::SparseMatrix<double> hessianMixed(const VectorXd& r, const VectorXd& d) const override {
+    return inner_.hessianMixed(r, d);
+  }
+  Eigen::SparseMatrix<double> hessianReference(const VectorXd& r, const VectorXd& d) const override {
+    return inner_.hessianReference(r, d);
+  }
+
+private:
+  const DiscreteShells& inner_;
+};
+
+TEST(DeformationEnergy, SeveralOutputsInOneCallMatchTheSingleCalls) {
+  const test::FlatMesh mesh = test::bumpyGrid(5, 3);
+  const DiscreteShells shells(mesh.triangles, 25, DiscreteShellsParameters::classic());
+  const ForwardingEnergy forwarding(shells);
+  const VectorXd deformed = test::perturbed(mesh.vertices, 0.05, 6);
+  for (const DeformationEnergy* energy : {static_cast<const DeformationEnergy*>(&shells),
+                                          static_cast<const DeformationEnergy*>(&forwarding)}) {
+    double value = -1.0;
+    VectorXd gradient;
+    Eigen::SparseMatrix<double> hessian, mixed;
+    energy->evaluate(mesh.vertices, deformed, {&value, &gradient, nullptr, &hessian, &mixed, nullptr});
+    EXPECT_NEAR(value, shells.value(mesh.vertices, deformed), 1e-14 * value);
+    EXPECT_LT((gradient - shells.gradientDeformed(mesh.vertices, deformed)).norm(), 1e-13 * gradient.norm());
+    EXPECT_LT((hessian - shells.hessianDeformed(mesh.vertices, deformed)).norm(), 1e-13 * hessian.norm());
+    EXPECT_LT((mixed - shells.hessianMixed(mesh.vertices, deformed)).norm(), 1e-13 * mixed.norm());
+    EXPECT_GT(value, 0.0);
+  }
+}
+
 TEST(DiscreteShells, SerialAndParallelEvaluationsAgree) {
   const test::FlatMesh mesh = test::bumpyGrid(12, 4);
   DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, DiscreteShellsParameters::hyperelastic());
