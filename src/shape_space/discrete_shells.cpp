@@ -37,6 +37,7 @@ static_assert(unsigned{DiscreteShells::kValue} == unsigned{detail::kValue} &&
 // Per-thread accumulators, merged after the parallel loops. Hessian values are written straight into the
 // compressed storage of the fixed sparsity pattern (thread 0 into the result, the others into buffers).
 struct Accumulator {
+  bool active = false;  // the runtime may start fewer threads than asked (nested regions, dynamic teams)
   double value = 0.0;
   Eigen::VectorXd gradientDeformed, gradientReference;
   Eigen::VectorXd ownDeformed, ownMixed, ownReference;  // buffers of threads > 0
@@ -319,6 +320,7 @@ ShellEvaluation DiscreteShells::assemble(const Eigen::VectorXd& reference, const
     const int thread = 0;
 #endif
     Accumulator& acc = accumulators[static_cast<std::size_t>(thread)];
+    acc.active = true;
     if (need & detail::kGradientDeformed) acc.gradientDeformed = Eigen::VectorXd::Zero(dofs);
     if (need & detail::kGradientReference) acc.gradientReference = Eigen::VectorXd::Zero(dofs);
     Eigen::VectorXd* const own[3] = {&acc.ownDeformed, &acc.ownMixed, &acc.ownReference};
@@ -368,6 +370,7 @@ ShellEvaluation DiscreteShells::assemble(const Eigen::VectorXd& reference, const
   if (need & detail::kGradientReference) result.gradientReference = Eigen::VectorXd::Zero(dofs);
   for (std::size_t t = 0; t < accumulators.size(); ++t) {
     const Accumulator& acc = accumulators[t];
+    if (!acc.active) continue;
     result.value += acc.value;
     if (need & detail::kGradientDeformed) result.gradientDeformed += acc.gradientDeformed;
     if (need & detail::kGradientReference) result.gradientReference += acc.gradientReference;

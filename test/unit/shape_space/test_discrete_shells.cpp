@@ -137,6 +137,22 @@ TEST(DiscreteShells, SerialAndParallelEvaluationsAgree) {
   EXPECT_LT((serial.hessianMixed - parallel.hessianMixed).norm(), 1e-12 * serial.hessianMixed.norm());
   EXPECT_LT((serial.hessianReference - parallel.hessianReference).norm(), 1e-12 * serial.hessianReference.norm());
   EXPECT_THROW(energy.setThreadCount(0), InvalidInputError);
+
+  // Called from inside an outer parallel region (as a flow evaluating several shapes at once does), the
+  // inner loop gets a team of one thread: results must not change.
+  double nestedValue[2] = {0.0, 0.0};
+  Eigen::VectorXd nestedGradient[2];
+#pragma omp parallel for num_threads(2)
+  for (int i = 0; i < 2; ++i) {
+    const ShellEvaluation r = energy.evaluate(mesh.vertices, deformed, DiscreteShells::kValue | DiscreteShells::kGradientDeformed);
+    nestedValue[i] = r.value;
+    nestedGradient[i] = r.gradientDeformed;
+  }
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_NEAR(nestedValue[i], serial.value, 1e-12 * serial.value);
+    ASSERT_EQ(nestedGradient[i].size(), serial.gradientDeformed.size());
+    EXPECT_LT((nestedGradient[i] - serial.gradientDeformed).norm(), 1e-12 * serial.gradientDeformed.norm());
+  }
 }
 
 // DESIGN.md §4: GOAST evaluates W[finger0, finger1] = 0.0919995 (hyperelastic membrane, mu = lambda = 1,
