@@ -1,0 +1,61 @@
+#pragma once
+// Deformation energy W[x_bar, x] between a reference (undeformed) shape x_bar and a deformed shape x over
+// one fixed topology (paper 004 §3: the dissimilarity measure of shape space). Shapes are flat vectors of
+// size 3V, xyz per vertex: (x_0, y_0, z_0, x_1, ...). The energy is not symmetric in its arguments.
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+namespace deformation_enrichment::shape_space {
+
+/// Where DeformationEnergy::evaluate writes each output; null members are not computed.
+struct EnergyOutputs {
+  double* value = nullptr;
+  Eigen::VectorXd* gradientDeformed = nullptr;
+  Eigen::VectorXd* gradientReference = nullptr;
+  Eigen::SparseMatrix<double>* hessianDeformed = nullptr;
+  Eigen::SparseMatrix<double>* hessianMixed = nullptr;
+  Eigen::SparseMatrix<double>* hessianReference = nullptr;
+};
+
+class DeformationEnergy {
+public:
+  virtual ~DeformationEnergy() = default;
+
+  /// Number of vertices V of the fixed topology; every shape argument has size 3V.
+  virtual Eigen::Index numVertices() const = 0;
+
+  /// W[reference, deformed].
+  virtual double value(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const = 0;
+
+  /// dW/dx, size 3V (derivative with respect to the deformed shape).
+  virtual Eigen::VectorXd gradientDeformed(const Eigen::VectorXd& reference,
+                                           const Eigen::VectorXd& deformed) const = 0;
+
+  /// dW/dx_bar, size 3V (derivative with respect to the reference shape).
+  virtual Eigen::VectorXd gradientReference(const Eigen::VectorXd& reference,
+                                            const Eigen::VectorXd& deformed) const = 0;
+
+  /// d^2W/dx^2, 3V x 3V, symmetric (both triangles stored).
+  virtual Eigen::SparseMatrix<double> hessianDeformed(const Eigen::VectorXd& reference,
+                                                      const Eigen::VectorXd& deformed) const = 0;
+
+  /// d^2W/(dx_bar dx), 3V x 3V: entry (i, j) = d^2W / (d x_bar_i d x_j), i.e. rows index the reference
+  /// and columns the deformed shape. Its transpose is d^2W/(dx dx_bar).
+  virtual Eigen::SparseMatrix<double> hessianMixed(const Eigen::VectorXd& reference,
+                                                   const Eigen::VectorXd& deformed) const = 0;
+
+  /// d^2W/dx_bar^2, 3V x 3V, symmetric (both triangles stored).
+  virtual Eigen::SparseMatrix<double> hessianReference(const Eigen::VectorXd& reference,
+                                                       const Eigen::VectorXd& deformed) const = 0;
+
+  /// Several outputs at once, e.g. evaluate(xBar, x, {&value, &gradient, nullptr, &hessian}). The default
+  /// calls the single-output methods one by one; implementations override it to share one pass.
+  virtual void evaluate(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed,
+                        const EnergyOutputs& outputs) const;
+
+protected:
+  /// Throws InvalidInputError naming the argument if a shape has the wrong size or a non-finite entry.
+  void checkShapes(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const;
+};
+
+}  // namespace deformation_enrichment::shape_space

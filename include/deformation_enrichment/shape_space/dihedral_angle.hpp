@@ -1,0 +1,26 @@
+#pragma once
+// Signed dihedral angle of a hinge (two triangles sharing the edge x_i -> x_j, opposite vertices x_k and
+// x_l) with its gradient and Hessian in the 12 coordinates (x_i, x_j, x_k, x_l). theta = 0 for a flat
+// hinge; theta is the angle from the normal of (i, j, k) to the normal of (j, i, l) about the edge, so the
+// result does not depend on how the second triangle is stored (consistent orientation is not required).
+#include <Eigen/Core>
+
+namespace deformation_enrichment::shape_space {
+
+/// theta with its derivatives; gradient and hessian are uninitialised until dihedralAngleDerivatives fills them
+/// (hot loops construct many of these; zeroing a 12 x 12 matrix each time would cost as much as the angle).
+struct HingeAngle {
+  double theta = 0.0;
+  Eigen::Matrix<double, 12, 1> gradient;
+  Eigen::Matrix<double, 12, 12> hessian;
+};
+
+/// theta in (-pi, pi]. Preconditions (checked by the caller): both triangles non-degenerate.
+double dihedralAngle(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj, const Eigen::Vector3d& xk,
+                     const Eigen::Vector3d& xl);
+
+/// theta, its gradient and (if withHessian) its Hessian; without it the Hessian is set to zero.
+HingeAngle dihedralAngleDerivatives(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj,
+                                    const Eigen::Vector3d& xk, const Eigen::Vector3d& xl, bool withHessian);
+
+}  // namespace deformation_enrichment::shape_space

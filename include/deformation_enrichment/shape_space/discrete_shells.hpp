@@ -1,0 +1,134 @@
+#pragma once
+// Discrete Shells deformation energy W[x_bar, x] = membrane + k_bend * bending for triangle meshes of one
+// fixed topology (paper 004 §3 and §7; DESIGN.md §4 "Shape space").
+//
+// Membrane (choose one):
+//  - DiscreteShells (Grinspun et al. 2003): k_L sum_e (1 - |e|/|e_bar|)^2 |e_bar| + k_A sum_t (1 - A/A_bar)^2 A_bar.
+//  - Hyperelastic (Heeren et al. 2012 eq. 8, as in GOAST): sum_t A_bar W(tr G, det G), G = g_bar^-1 g,
+//    W(a, d) = mu/2 a + lambda/4 d - (mu/2 + lambda/4) log d - mu - lambda/4.
+// Bending: sum_e (theta_e - theta_bar_e)^2 c |e_bar|^2 / (A_bar_1 + A_bar_2), theta the dihedral angle;
+//   c = 3 with the DiscreteShells membrane (Grinspun et al.'s |e_bar| / h_bar_e, h_bar_e a third of the average
+//   height of the two triangles) and c = 1 with the Hyperelastic membrane (GOAST's SimpleBendingEnergy).
+//
+// Non-manifold input: only edges shared by exactly two triangles carry a bending term. Boundary edges (one
+// triangle) and edges with three or more triangles (or two copies of one triangle) are skipped for bending
+// (counted, see numBoundaryEdges / numNonManifoldEdges); every
+// triangle and every distinct edge still carries its membrane term. Inconsistent triangle orientation is
+// accepted: each hinge's angle is measured from its first triangle's winding. theta - theta_bar is taken
+// modulo 2 pi (in [-pi, pi]), so a hinge folding through +-pi does not jump.
+// A triangle whose area is below 1e-8 times its summed squared edge lengths, in either shape, is
+// degenerate: every evaluation then throws InvalidInputError naming the triangle and the shape.
+//
+// Evaluations are const and keep no state, so several threads may evaluate one DiscreteShells at once (each
+// call runs its own OpenMP loop over triangles, edges and hinges; nested inside an outer parallel region it
+// runs serially unless nesting is enabled). Hessians share one sparsity pattern (vertex pairs sharing a
+// triangle or a hinge), so blocks from different calls add without reallocation.
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <vector>
+
+#include "deformation_enrichment/shape_space/deformation_energy.hpp"
+
+namespace deformation_enrichment::shape_space {
+
+enum class MembraneModel { DiscreteShells, Hyperelastic };
+
+namespace detail {
+/// Fixed sparsity of the Hessian blocks: vertex pairs that share a triangle or a hinge (built once).
+struct HessianPattern {
+  std::vector<int> neighbourStart;  ///< per vertex, range into neighbours (size V + 1)
+  std::vector<int> neighbours;      ///< sorted neighbour vertices, each vertex included in its own list
+  std::vector<int> outer;           ///< compressed column starts of zeros (size 3V + 1)
+  Eigen::SparseMatrix<double> zeros;  ///< 3V x 3V, the pattern with zero values
+};
+}  // namespace detail
+
+struct DiscreteShellsParameters {
+  MembraneModel membrane = MembraneModel::Hyperelastic;
+  double lengthWeight = 0.5;  ///< k_L (DiscreteShells membrane only)
+  double areaWeight = 0.5;    ///< k_A (DiscreteShells membrane only)
+  double mu = 1.0;            ///< Lame mu (Hyperelastic membrane only)
+  double lambda = 1.0;        ///< Lame lambda (Hyperelastic membrane only)
+  double bendingWeight = 1e-3;  ///< k_B (DiscreteShells) or delta (Hyperelastic)
+
+  /// Paper 004 §7: k_B = 1, k_L = k_A = 1/2.
+  static DiscreteShellsParameters classic();
+  /// GOAST's shell energy: mu = lambda = 1, bending weighted by delta.
+  static DiscreteShellsParameters hyperelastic(double delta = 1e-3);
+};
+
+/// All outputs of one pass (only the requested ones are filled).
+struct ShellEvaluation {
+  double value = 0.0;
+  Eigen::VectorXd gradientDeformed, gradientReference;
+  Eigen::SparseMatrix<double> hessianDeformed, hessianMixed, hessianReference;
+};
+
+class DiscreteShells final : public DeformationEnergy {
+public:
+  /// Requested outputs for evaluate() (bit flags).
+  enum Output : unsigned {
+    kValue = 1u,
+    kGradientDeformed = 2u,
+    kGradientReference = 4u,
+    kHessianDeformed = 8u,
+    kHessianMixed = 16u,
+    kHessianReference = 32u,
+  };
+
+  /// triangles: 3 x T vertex indices into numVertices vertices. Throws InvalidInputError on an empty mesh,
+  /// out-of-range or repeated indices, or non-finite / negative parameters.
+  DiscreteShells(const Eigen::Matrix3Xi& triangles, Eigen::Index numVertices,
+                 const DiscreteShellsParameters& parameters = DiscreteShellsParameters::hyperelastic());
+
+  Eigen::Index numVertices() const override { return numVertices_; }
+  double value(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const override;
+  Eigen::VectorXd gradientDeformed(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const override;
+  Eigen::VectorXd gradientReference(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const override;
+  Eigen::SparseMatrix<double> hessianDeformed(const Eigen::VectorXd& reference,
+                                              const Eigen::VectorXd& deformed) const override;
+  Eigen::SparseMatrix<double> hessianMixed(const Eigen::VectorXd& reference,
+                                           const Eigen::VectorXd& deformed) const override;
+  Eigen::SparseMatrix<double> hessianReference(const Eigen::VectorXd& reference,
+                                               const Eigen::VectorXd& deformed) const override;
+
+  /// Several outputs in one pass over the mesh (outputs: OR of Output flags).
+  ShellEvaluation evaluate(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed, unsigned outputs) const;
+  /// The interface's several-outputs call, in one pass over the mesh.
+  void evaluate(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed,
+                const EnergyOutputs& outputs) const override;
+
+  /// Membrane and bending parts separately (bending already multiplied by bendingWeight).
+  double membraneValue(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const;
+  double bendingValue(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const;
+
+  /// OpenMP threads used by evaluations (1 = serial). Defaults to the OpenMP maximum.
+  void setThreadCount(int threads);
+  int threadCount() const { return threads_; }
+
+  const DiscreteShellsParameters& parameters() const { return parameters_; }
+  Eigen::Index numTriangles() const { return triangles_.cols(); }
+  Eigen::Index numEdges() const { return static_cast<Eigen::Index>(edges_.size()); }
+  Eigen::Index numHinges() const { return static_cast<Eigen::Index>(hinges_.size()); }
+  Eigen::Index numBoundaryEdges() const { return numBoundaryEdges_; }
+  Eigen::Index numNonManifoldEdges() const { return numNonManifoldEdges_; }
+
+private:
+  enum Parts : unsigned { kMembrane = 1u, kBending = 2u };
+  ShellEvaluation assemble(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed, unsigned outputs,
+                           unsigned parts) const;
+  void checkTriangles(const Eigen::VectorXd& shape, const char* name) const;
+  void buildHessianPattern();
+
+  Eigen::Matrix3Xi triangles_;
+  Eigen::Index numVertices_ = 0;
+  DiscreteShellsParameters parameters_;
+  std::vector<Eigen::Vector2i> edges_;   ///< distinct edges (membrane length term)
+  std::vector<Eigen::Vector4i> hinges_;  ///< (i, j, k, l): edge i -> j as in triangle (i, j, k), l opposite
+  Eigen::Index numBoundaryEdges_ = 0;
+  Eigen::Index numNonManifoldEdges_ = 0;
+  detail::HessianPattern pattern_;
+  int threads_ = 1;
+};
+
+}  // namespace deformation_enrichment::shape_space
