@@ -1,10 +1,11 @@
 #include "deformation_enrichment/elasticity/stable_neo_hookean.hpp"
 
-#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <cmath>
 #include <string>
 
+#include "deformation_enrichment/elasticity/symmetric_eigen3.hpp"
 #include "deformation_enrichment/error.hpp"
 
 namespace deformation_enrichment::elasticity {
@@ -169,11 +170,11 @@ SnhEigensystem StableNeoHookean::eigensystem(const Eigen::Matrix3d& F) const {
     A(kPairI[m], kPairJ[m]) += k.s * sig(m);
     A(kPairJ[m], kPairI[m]) += k.s * sig(m);
   }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(A);
+  const SymmetricEigen3 eig = symmetricEigen3(A);
   Eigen::Matrix<double, 9, 3> W;
   for (int m = 0; m < 3; ++m) W.col(m) = outerVec(svd.U, m, svd.V, m);
-  es.values.head<3>() = eig.eigenvalues();
-  es.vectors.leftCols<3>() = W * eig.eigenvectors();
+  es.values.head<3>() = eig.values;
+  es.vectors.leftCols<3>() = W * eig.vectors;
   // Twist (antisymmetric) and flip (symmetric) modes of pair (i, j): a ± lambda'(J - alpha) sigma_k.
   const double r = std::sqrt(0.5);
   for (int m = 0; m < 3; ++m) {
@@ -223,12 +224,12 @@ Matrix9d StableNeoHookean::projectedHessian(const Eigen::Matrix3d& F, const Rota
   }
   const double minor2 = A(0, 0) * A(1, 1) - A(0, 1) * A(0, 1);
   if (A(0, 0) > 0.0 && minor2 > 0.0 && A.determinant() > 0.0) return H;  // Sylvester's criterion
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(A);
+  const SymmetricEigen3 eig = symmetricEigen3(A);
   for (int e = 0; e < 3; ++e) {
-    const double value = eig.eigenvalues()(e);
+    const double value = eig.values(e);
     if (value >= 0.0) break;  // ascending order
     Vector9d q = Vector9d::Zero();
-    for (int m = 0; m < 3; ++m) q += eig.eigenvectors()(m, e) * outerVec(svd.U, m, svd.V, m);
+    for (int m = 0; m < 3; ++m) q += eig.vectors(m, e) * outerVec(svd.U, m, svd.V, m);
     H.noalias() -= value * q * q.transpose();
   }
   return H;

@@ -1,12 +1,16 @@
-// Rotation-variant SVD: reconstruction, proper rotations, reflection in the smallest singular value.
+// Rotation-variant SVD: reconstruction, proper rotations, reflection in the smallest singular value,
+// agreement with Eigen's JacobiSVD; the Jacobi symmetric 3x3 eigensolver against Eigen's solver.
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <Eigen/LU>
+#include <Eigen/SVD>
 #include <limits>
 #include <random>
 
 #include "deformation_enrichment/elasticity/rotation_variant_svd.hpp"
+#include "deformation_enrichment/elasticity/symmetric_eigen3.hpp"
 #include "deformation_enrichment/error.hpp"
 
 using namespace deformation_enrichment;
@@ -20,8 +24,12 @@ void expectValid(const Eigen::Matrix3d& F, const RotationVariantSvd& svd) {
   EXPECT_NEAR(svd.V.determinant(), 1.0, 1e-13);
   EXPECT_LT((svd.U.transpose() * svd.U - Eigen::Matrix3d::Identity()).norm(), 1e-13);
   EXPECT_LT((svd.V.transpose() * svd.V - Eigen::Matrix3d::Identity()).norm(), 1e-13);
-  EXPECT_GE(svd.sigma(0), svd.sigma(1));
-  EXPECT_GE(svd.sigma(1), std::abs(svd.sigma(2)));
+  // Sorted by magnitude up to rounding at ties.
+  EXPECT_GE(svd.sigma(0), svd.sigma(1) - 1e-14 * scale);
+  EXPECT_GE(svd.sigma(1), std::abs(svd.sigma(2)) - 1e-14 * scale);
+  // Magnitudes agree with Eigen's JacobiSVD (independent two-sided Jacobi algorithm).
+  const Eigen::Vector3d reference = Eigen::JacobiSVD<Eigen::Matrix3d>(F).singularValues();
+  EXPECT_LT((svd.sigma.cwiseAbs() - reference).norm(), 1e-13 * scale) << "F=\n" << F;
   // The sign of det F lives in sigma_2 only.
   if (F.determinant() < -1e-12 * scale * scale * scale) {
     EXPECT_LT(svd.sigma(2), 0.0);
@@ -62,6 +70,56 @@ TEST(RotationVariantSvd, DegenerateMatrices) {
   for (const Eigen::Matrix3d& F : cases) expectValid(F, rotationVariantSvd(F));
   const RotationVariantSvd reflection = rotationVariantSvd(-Eigen::Matrix3d::Identity());
   EXPECT_NEAR(reflection.sigma(2), -1.0, 1e-15);
+}
+
+TEST(RotationVariantSvd, GradedAndExtremeScales) {
+  // Small singular values keep relative accuracy (QR of A V, not sqrt of eig(A^T A)).
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
+  const Eigen::Matrix3d S = Eigen::AngleAxisd(-1.3, Eigen::Vector3d(0, 1, 2).normalized()).toRotationMatrix();
+  const Eigen::Vector3d graded(1e4, 1.0, -1e-4);
+  const RotationVariantSvd svd = rotationVariantSvd(R * graded.asDiagonal() * S.transpose());
+  EXPECT_NEAR(svd.sigma(0), 1e4, 1e-11);
+  EXPECT_NEAR(svd.sigma(1), 1.0, 1e-12);
+  EXPECT_NEAR(svd.sigma(2), -1e-4, 1e-12);
+  // Entries near overflow and underflow are rescaled internally.
+  for (double scale : {1e-200, 1e200}) {
+    const Eigen::Matrix3d F = scale * (R * Eigen::Vector3d(3.0, 2.0, -1.0).asDiagonal() * S.transpose());
+    const RotationVariantSvd big = rotationVariantSvd(F);
+    EXPECT_TRUE(big.sigma.allFinite() && big.U.allFinite() && big.V.allFinite());
+    EXPECT_NEAR(big.sigma(0) / scale, 3.0, 1e-13);
+    EXPECT_NEAR(big.sigma(2) / scale, -1.0, 1e-13);
+  }
+}
+
+TEST(SymmetricEigen3, MatchesEigenSelfAdjointSolver) {
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<double> entry(-1.0, 1.0);
+  for (int n = 0; n < 2000; ++n) {
+    Eigen::Matrix3d M;
+    for (int e = 0; e < 9; ++e) M.data()[e] = entry(rng);
+    Eigen::Matrix3d A = M + M.transpose();
+    if (n % 4 == 1) A = M * M.transpose();                            // PSD, possibly near-singular
+    if (n % 4 == 2) A = Eigen::Vector3d(1.0, 1.0, entry(rng)).asDiagonal();  // repeated eigenvalues
+    if (n % 4 == 3) A(0, 0) *= 1e8;                                   // strongly graded
+    const SymmetricEigen3 eig = symmetricEigen3(A);
+    const Eigen::Vector3d reference = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(A).eigenvalues();
+    EXPECT_LT((eig.values - reference).norm(), 1e-14 * A.norm()) << "A=\n" << A;
+    EXPECT_LT((A * eig.vectors - eig.vectors * eig.values.asDiagonal()).norm(), 1e-14 * A.norm());
+    EXPECT_LT((eig.vectors.transpose() * eig.vectors - Eigen::Matrix3d::Identity()).norm(), 1e-14);
+    EXPECT_NEAR(eig.vectors.determinant(), 1.0, 1e-14);
+    EXPECT_LE(eig.values(0), eig.values(1));
+    EXPECT_LE(eig.values(1), eig.values(2));
+  }
+  // Entries near overflow and underflow are rescaled internally.
+  for (double scale : {1e-250, 1e250}) {
+    const Eigen::Matrix3d A = scale * Eigen::Matrix3d(Eigen::Vector3d(-2.0, 1.0, 3.0).asDiagonal());
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 0, 1).normalized()).toRotationMatrix();
+    const SymmetricEigen3 eig = symmetricEigen3(R * A * R.transpose());
+    EXPECT_LT((eig.values / scale - Eigen::Vector3d(-2.0, 1.0, 3.0)).norm(), 1e-14);
+  }
+  const SymmetricEigen3 zero = symmetricEigen3(Eigen::Matrix3d::Zero());
+  EXPECT_TRUE(zero.values.isZero(0.0));
+  EXPECT_TRUE(zero.vectors.isIdentity(0.0));
 }
 
 TEST(RotationVariantSvd, RejectsNonFinite) {
