@@ -1,5 +1,8 @@
 #include "deformation_enrichment/elasticity/symmetric_eigen3.hpp"
 
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -7,74 +10,95 @@ namespace deformation_enrichment::elasticity {
 
 namespace {
 
-// One Jacobi rotation annihilating a(p, q) (r is the third index): A <- J^T A J, V <- V J, by the smaller
-// angle: tan = t = 2 a_pq sgn(d) / (|d| + h), cos = sqrt((1 + |d| / h) / 2), d = a_qq - a_pp,
-// h = sqrt(d^2 + 4 a_pq^2). Entries are pre-scaled to at most 1e50, so d^2 cannot overflow.
-template <int p, int q, int r>
-inline void rotate(Eigen::Matrix3d& a, Eigen::Matrix3d& v) {
-  const double apq = a(p, q);
-  const double d = a(q, q) - a(p, p);
-  const double absD = std::abs(d);
-  const double h = std::sqrt(d * d + 4.0 * apq * apq);
-  if (h == 0.0) return;
-  const double t = (d < 0.0 ? -2.0 * apq : 2.0 * apq) / (absD + h);
-  const double c = std::sqrt(0.5 + 0.5 * absD / h);
-  const double s = t * c;
-  a(p, p) -= t * apq;
-  a(q, q) += t * apq;
-  a(p, q) = a(q, p) = 0.0;
-  const double arp = a(r, p);
-  const double arq = a(r, q);
-  a(r, p) = a(p, r) = c * arp - s * arq;
-  a(r, q) = a(q, r) = s * arp + c * arq;
-  for (int k = 0; k < 3; ++k) {
-    const double vp = v(k, p);
-    const double vq = v(k, q);
-    v(k, p) = c * vp - s * vq;
-    v(k, q) = s * vp + c * vq;
-  }
+constexpr double kTwoPiOverThree = 2.0943951023931954923;
+
+// Any unit vector orthogonal to the unit vector u.
+Eigen::Vector3d anyOrthogonal(const Eigen::Vector3d& u) {
+  Eigen::Index smallest = 0;
+  u.cwiseAbs().minCoeff(&smallest);
+  return u.cross(Eigen::Vector3d::Unit(smallest)).normalized();
 }
 
 }  // namespace
 
-SymmetricEigen3 symmetricEigen3(const Eigen::Matrix3d& A) {
-  Eigen::Matrix3d a;
-  a << A(0, 0), A(0, 1), A(0, 2),  //
-      A(0, 1), A(1, 1), A(1, 2),   //
-      A(0, 2), A(1, 2), A(2, 2);
-  // Squares appear in the rotation angle: rescale outside [1e-50, 1e50] (no scaling in the normal range).
-  const double maxAbs = a.cwiseAbs().maxCoeff();
-  const bool rescale = maxAbs > 1e50 || (maxAbs < 1e-50 && maxAbs > 0.0);
-  if (rescale) a /= maxAbs;
-  Eigen::Matrix3d v = Eigen::Matrix3d::Identity();
-  // Cyclic sweeps until every off-diagonal entry is below 1e-17 |A| (absolute accuracy, which is what a
-  // PSD clamp needs). Convergence is quadratic: 3-5 sweeps for any input; the cap of 32 is a safeguard.
-  const double tolerance = 1e-34 * (a.diagonal().squaredNorm() + 2.0 * (a(0, 1) * a(0, 1) + a(0, 2) * a(0, 2) +
-                                                                        a(1, 2) * a(1, 2)));
-  auto negligible = [&](int p, int q) { return a(p, q) * a(p, q) <= tolerance; };
-  for (int sweep = 0; sweep < 32; ++sweep) {
-    bool rotated = false;
-    if (!negligible(0, 1)) rotated = true, rotate<0, 1, 2>(a, v);
-    if (!negligible(0, 2)) rotated = true, rotate<0, 2, 1>(a, v);
-    if (!negligible(1, 2)) rotated = true, rotate<1, 2, 0>(a, v);
-    if (!rotated) break;
-  }
+SymmetricEigen3 symmetricEigen3(const Eigen::Matrix3d& Ain) {
+  Eigen::Matrix3d A;
+  A << Ain(0, 0), Ain(0, 1), Ain(0, 2),  //
+      Ain(0, 1), Ain(1, 1), Ain(1, 2),   //
+      Ain(0, 2), Ain(1, 2), Ain(2, 2);
+  // Squares of entries appear below: rescale outside [1e-100, 1e100] (no scaling in the normal range).
+  const double maxAbs = A.cwiseAbs().maxCoeff();
+  const bool rescale = maxAbs > 1e100 || (maxAbs < 1e-100 && maxAbs > 0.0);
+  if (rescale) A /= maxAbs;
+
   SymmetricEigen3 out;
-  out.values = rescale ? Eigen::Vector3d(maxAbs * a.diagonal()) : Eigen::Vector3d(a.diagonal());
-  out.vectors = v;
-  // Sort ascending; each column swap flips det(V), so negate a column after an odd number of swaps.
+  // Deviatoric part B = A - m I, normalised by p = sqrt(tr(B^2) / 6): the eigenvalues of B / p are
+  // 2 cos(phi + 2 pi k / 3) with phi = acos(det(B / p) / 2) / 3 (trigonometric solution of the cubic).
+  const double m = A.trace() / 3.0;
+  Eigen::Matrix3d B = A;
+  B.diagonal().array() -= m;
+  const double q = (B.diagonal().squaredNorm() + 2.0 * (B(0, 1) * B(0, 1) + B(0, 2) * B(0, 2) + B(1, 2) * B(1, 2))) / 6.0;
+  if (q == 0.0) {  // A = m I
+    out.values.setConstant(rescale ? m * maxAbs : m);
+    out.vectors.setIdentity();
+    return out;
+  }
+  const double p = std::sqrt(q);
+  const double r = std::clamp(0.5 * (B / p).determinant(), -1.0, 1.0);
+  const double phi = std::acos(r) / 3.0;
+  // Only the eigenvalue farthest from the mean is taken from the formula: it is isolated (gap >= sqrt(3) p)
+  // and insensitive to rounding in r. The formula splits a (near-)double pair only to sqrt(eps), so the
+  // other two come from the exact 2x2 problem on the orthogonal complement instead.
+  const bool largestIsolated = r >= 0.0;
+  const double shift = 2.0 * p * std::cos(largestIsolated ? phi : phi + kTwoPiOverThree);  // lambda - m
+  Eigen::Matrix3d M = B;
+  M.diagonal().array() -= shift;
+  // Null vector of the rank-2 matrix M: the largest cross product of two of its rows.
+  const Eigen::Vector3d c01 = M.row(0).cross(M.row(1)), c02 = M.row(0).cross(M.row(2)),
+                        c12 = M.row(1).cross(M.row(2));
+  const double n01 = c01.squaredNorm(), n02 = c02.squaredNorm(), n12 = c12.squaredNorm();
+  Eigen::Vector3d e;
+  if (n01 >= n02 && n01 >= n12) {
+    e = c01 / std::sqrt(n01);
+  } else if (n02 >= n12) {
+    e = c02 / std::sqrt(n02);
+  } else {
+    e = c12 / std::sqrt(n12);
+  }
+  const Eigen::Vector3d b1 = anyOrthogonal(e);
+  const Eigen::Vector3d b2 = e.cross(b1);
+  // 2x2 block of B on (b1, b2), diagonalised by one exact Jacobi rotation: tan = t = 2 a12 sgn(d) / (|d| + h),
+  // cos = sqrt((1 + |d| / h) / 2), d = a22 - a11, h = sqrt(d^2 + 4 a12^2).
+  const Eigen::Vector3d Bb1 = B * b1, Bb2 = B * b2;
+  const double a11 = b1.dot(Bb1), a22 = b2.dot(Bb2), a12 = b1.dot(Bb2);
+  const double d = a22 - a11;
+  const double h = std::sqrt(d * d + 4.0 * a12 * a12);
+  double t = 0.0, c = 1.0;
+  if (h > 0.0) {
+    t = (d < 0.0 ? -2.0 * a12 : 2.0 * a12) / (h + std::abs(d));
+    c = std::sqrt(0.5 + 0.5 * std::abs(d) / h);
+  }
+  const double s = t * c;
+  double values[3] = {shift, a11 - t * a12, a22 + t * a12};
+  Eigen::Vector3d vectors[3] = {e, c * b1 - s * b2, s * b1 + c * b2};
+  // Sort ascending (three compare-swaps). (e, v1, v2) = (e, b1, b2) rotated: det +1; each swap flips it.
   bool odd = false;
   auto order = [&](int i, int j) {
-    if (out.values(i) > out.values(j)) {
-      std::swap(out.values(i), out.values(j));
-      out.vectors.col(i).swap(out.vectors.col(j));
+    if (values[i] > values[j]) {
+      std::swap(values[i], values[j]);
+      std::swap(vectors[i], vectors[j]);
       odd = !odd;
     }
   };
   order(0, 1);
   order(1, 2);
   order(0, 1);
+  for (int k = 0; k < 3; ++k) {
+    out.values(k) = m + values[k];
+    out.vectors.col(k) = vectors[k];
+  }
   if (odd) out.vectors.col(0) *= -1.0;
+  if (rescale) out.values *= maxAbs;
   return out;
 }
 

@@ -1,7 +1,9 @@
 #pragma once
-// Eigen-decomposition of a symmetric 3x3 matrix by cyclic Jacobi rotations, for the SNH scaling-mode
-// block of the PSD projection (Smith et al. 2018 §4.3). Faster than Eigen's
-// SelfAdjointEigenSolver<Matrix3d>::compute at the same absolute accuracy (bench_snh_projection).
+// Closed-form eigen-decomposition of a symmetric 3x3 matrix, for the SNH scaling-mode block of the PSD
+// projection (Smith et al. 2018 §4.3: "the 3x3 scaling block solved small"). The isolated eigenvalue
+// comes from the trigonometric solution of the characteristic cubic, its eigenvector from a cross
+// product, and the remaining pair from an exact 2x2 rotation, so (near-)repeated eigenvalues keep full
+// accuracy. Faster than Eigen's SelfAdjointEigenSolver<Matrix3d>::compute (bench_snh_projection).
 #include <Eigen/Core>
 
 namespace deformation_enrichment::elasticity {

@@ -124,6 +124,24 @@ TEST(SnhProjection, DegenerateAndExtremeStatesAreFinitePsdAndExact) {
   }
 }
 
+TEST(SnhProjection, StructuredStatesWithRepeatedSingularValues) {
+  // Uniform and axisymmetric scalings (and their reflections) give repeated singular values and repeated
+  // scaling-block eigenvalues, including ones that cross zero as the scale factor sweeps through.
+  for (SnhVariant variant : kVariants) {
+    const StableNeoHookean snh(1.0, 4.0, variant);
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(0.5, Eigen::Vector3d(1, 3, -2).normalized()).toRotationMatrix();
+    for (double a = -1.5; a <= 1.5; a += 0.01) {
+      for (const Eigen::Vector3d& sigma : {Eigen::Vector3d(a, a, a), Eigen::Vector3d(a, a, 1.0), Eigen::Vector3d(1.0, 1.0, a),
+                                           Eigen::Vector3d(a, a, 0.0)}) {
+        const Eigen::Matrix3d F = R * sigma.asDiagonal() * R.transpose();
+        const Matrix9d H = snh.hessian(F);
+        EXPECT_LE((snh.projectedHessian(F) - numericalClamp(H)).norm(), 1e-10 * H.norm())
+            << "sigma " << sigma.transpose();
+      }
+    }
+  }
+}
+
 TEST(SnhProjection, RestAndPositiveStatesAreNotModified) {
   // Near rest the Hessian is positive definite, so the projection must return it unchanged.
   const StableNeoHookean snh(1.0, 10.0);
