@@ -156,13 +156,10 @@ Matrix9d StableNeoHookean::hessian(const Eigen::Matrix3d& F) const {
   return H;
 }
 
-SnhEigensystem StableNeoHookean::eigensystem(const Eigen::Matrix3d& F) const {
-  checkFinite(F, "eigensystem");
-  const RotationVariantSvd svd = rotationVariantSvd(F);
-  const Eigen::Vector3d& sig = svd.sigma;
-  const Coefficients k = coefficients(sig.squaredNorm(), sig.prod());
-  SnhEigensystem es;
-  // Scaling modes: the 3x3 block on vec(U diag(d) V^T), solved small (Smith et al. 2018 §4.3).
+Eigen::Matrix3d StableNeoHookean::scalingBlock(const Eigen::Vector3d& sig, const Coefficients& k) const {
+  // The Hessian restricted to D = diag(d): a I + b sigma sigma^T + lambda' c c^T + lambda'(J - alpha) S,
+  // with c = dJ/dsigma = (s1 s2, s0 s2, s0 s1) and S_ij = sigma_k (i != j), the volume Hessian's diagonal
+  // part, since d^2 det(Sigma + D) = 2 sum_{i<j} sigma_k (d_i d_j - D_ij D_ji).
   const Eigen::Vector3d c(sig(1) * sig(2), sig(0) * sig(2), sig(0) * sig(1));
   Eigen::Matrix3d A = k.b * sig * sig.transpose() + lambdaPrime_ * c * c.transpose();
   A.diagonal().array() += k.a;
@@ -170,12 +167,23 @@ SnhEigensystem StableNeoHookean::eigensystem(const Eigen::Matrix3d& F) const {
     A(kPairI[m], kPairJ[m]) += k.s * sig(m);
     A(kPairJ[m], kPairI[m]) += k.s * sig(m);
   }
-  const SymmetricEigen3 eig = symmetricEigen3(A);
+  return A;
+}
+
+SnhEigensystem StableNeoHookean::eigensystem(const Eigen::Matrix3d& F) const {
+  checkFinite(F, "eigensystem");
+  const RotationVariantSvd svd = rotationVariantSvd(F);
+  const Eigen::Vector3d& sig = svd.sigma;
+  const Coefficients k = coefficients(sig.squaredNorm(), sig.prod());
+  SnhEigensystem es;
+  // Scaling modes: the 3x3 block on vec(U diag(d) V^T), solved small (Smith et al. 2018 §4.3).
+  const SymmetricEigen3 eig = symmetricEigen3(scalingBlock(sig, k));
   Eigen::Matrix<double, 9, 3> W;
   for (int m = 0; m < 3; ++m) W.col(m) = outerVec(svd.U, m, svd.V, m);
   es.values.head<3>() = eig.values;
   es.vectors.leftCols<3>() = W * eig.vectors;
-  // Twist (antisymmetric) and flip (symmetric) modes of pair (i, j): a ± lambda'(J - alpha) sigma_k.
+  // Twist (antisymmetric) and flip (symmetric) modes of pair (i, j): on (D_ij, D_ji) the Hessian is
+  // [[a, -s sigma_k], [-s sigma_k, a]] (same expansion of det), eigenvalues a ± lambda'(J - alpha) sigma_k.
   const double r = std::sqrt(0.5);
   for (int m = 0; m < 3; ++m) {
     const Vector9d wij = outerVec(svd.U, kPairI[m], svd.V, kPairJ[m]);
@@ -215,13 +223,7 @@ Matrix9d StableNeoHookean::projectedHessian(const Eigen::Matrix3d& F, const Rota
     }
   }
   // Scaling block (Smith et al. 2018 §4.3): skip the 3x3 eigensolve when it is positive definite.
-  const Eigen::Vector3d c(sig(1) * sig(2), sig(0) * sig(2), sig(0) * sig(1));
-  Eigen::Matrix3d A = k.b * sig * sig.transpose() + lambdaPrime_ * c * c.transpose();
-  A.diagonal().array() += k.a;
-  for (int m = 0; m < 3; ++m) {
-    A(kPairI[m], kPairJ[m]) += k.s * sig(m);
-    A(kPairJ[m], kPairI[m]) += k.s * sig(m);
-  }
+  const Eigen::Matrix3d A = scalingBlock(sig, k);
   const double minor2 = A(0, 0) * A(1, 1) - A(0, 1) * A(0, 1);
   if (A(0, 0) > 0.0 && minor2 > 0.0 && A.determinant() > 0.0) return H;  // Sylvester's criterion
   const SymmetricEigen3 eig = symmetricEigen3(A);
