@@ -16,7 +16,8 @@ constexpr double kTwoPiOverThree = 2.0943951023931954923;
 Eigen::Vector3d anyOrthogonal(const Eigen::Vector3d& u) {
   Eigen::Index smallest = 0;
   u.cwiseAbs().minCoeff(&smallest);
-  return u.cross(Eigen::Vector3d::Unit(smallest)).normalized();
+  const Eigen::Vector3d w = u.cross(Eigen::Vector3d::Unit(smallest));
+  return w * (1.0 / w.norm());
 }
 
 }  // namespace
@@ -44,7 +45,7 @@ SymmetricEigen3 symmetricEigen3(const Eigen::Matrix3d& Ain) {
     return out;
   }
   const double p = std::sqrt(q);
-  const double r = std::clamp(0.5 * (B / p).determinant(), -1.0, 1.0);
+  const double r = std::clamp(0.5 * (B * (1.0 / p)).determinant(), -1.0, 1.0);
   const double phi = std::acos(r) / 3.0;
   // Only the eigenvalue farthest from the mean is taken from the formula: it is isolated (gap >= sqrt(3) p)
   // and insensitive to rounding in r. The formula splits a (near-)double pair only to sqrt(eps), so the
@@ -59,11 +60,11 @@ SymmetricEigen3 symmetricEigen3(const Eigen::Matrix3d& Ain) {
   const double n01 = c01.squaredNorm(), n02 = c02.squaredNorm(), n12 = c12.squaredNorm();
   Eigen::Vector3d e;
   if (n01 >= n02 && n01 >= n12) {
-    e = c01 / std::sqrt(n01);
+    e = c01 * (1.0 / std::sqrt(n01));
   } else if (n02 >= n12) {
-    e = c02 / std::sqrt(n02);
+    e = c02 * (1.0 / std::sqrt(n02));
   } else {
-    e = c12 / std::sqrt(n12);
+    e = c12 * (1.0 / std::sqrt(n12));
   }
   const Eigen::Vector3d b1 = anyOrthogonal(e);
   const Eigen::Vector3d b2 = e.cross(b1);

@@ -1,6 +1,7 @@
 // PSD projection of the Stable Neo-Hookean Hessian: analytic eigensystem (Smith et al. 2018 §4) vs the
 // numerical baseline (exact Hessian + Eigen SelfAdjointEigenSolver<9x9> + clamp + rebuild), over the
-// same pre-generated random deformation gradients, with and without the rotation-variant SVD.
+// same pre-generated random deformation gradients, with and without the rotation-variant SVD; plus the
+// two building blocks against their Eigen counterparts (SVD, symmetric 3x3 eigensolver).
 //
 //   bench_snh_projection [--elements=N] [--distribution=uniform|rest] [google-benchmark flags]
 //   e.g. --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
@@ -20,6 +21,7 @@
 
 #include "deformation_enrichment/elasticity/rotation_variant_svd.hpp"
 #include "deformation_enrichment/elasticity/stable_neo_hookean.hpp"
+#include "deformation_enrichment/elasticity/symmetric_eigen3.hpp"
 
 using namespace deformation_enrichment::elasticity;
 
@@ -141,11 +143,37 @@ void BM_EigenJacobiSvd(benchmark::State& state) {
   setCounters(state);
 }
 
+// The 3x3 symmetric eigensolver of the scaling block: closed form vs Eigen's iterative solver, on the
+// symmetric parts (F + F^T) / 2 of the workload (indefinite, like the scaling blocks).
+void BM_SymmetricEigen3(benchmark::State& state) {
+  const Workload& w = workload();
+  for (auto _ : state) {
+    for (const Eigen::Matrix3d& F : w.F) {
+      SymmetricEigen3 eig = symmetricEigen3(0.5 * (F + F.transpose()));
+      benchmark::DoNotOptimize(eig.vectors.data());
+    }
+  }
+  setCounters(state);
+}
+
+void BM_EigenSelfAdjoint3(benchmark::State& state) {
+  const Workload& w = workload();
+  for (auto _ : state) {
+    for (const Eigen::Matrix3d& F : w.F) {
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(0.5 * (F + F.transpose()));
+      benchmark::DoNotOptimize(eig.eigenvectors().data());
+    }
+  }
+  setCounters(state);
+}
+
 BENCHMARK(BM_NumericalEigen9x9)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_AnalyticIncludingSvd)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_AnalyticExcludingSvd)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_RotationVariantSvd)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_EigenJacobiSvd)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_SymmetricEigen3)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_EigenSelfAdjoint3)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 // Console output plus the median CPU time of each benchmark (robust to the shared machine's load), for the ratios printed at the end.
 class RatioReporter : public benchmark::ConsoleReporter {
@@ -164,7 +192,8 @@ public:
   }
   void printRatios() const {
     for (const char* name : {"BM_NumericalEigen9x9", "BM_AnalyticIncludingSvd", "BM_AnalyticExcludingSvd",
-                             "BM_RotationVariantSvd", "BM_EigenJacobiSvd"}) {
+                             "BM_RotationVariantSvd", "BM_EigenJacobiSvd", "BM_SymmetricEigen3",
+                             "BM_EigenSelfAdjoint3"}) {
       if (medians_.count(name) == 0) return;  // filtered out: no ratios to print
     }
     const double n = static_cast<double>(gElements);
@@ -180,6 +209,10 @@ public:
                 numerical, including, excluding);
     std::printf("rotation-variant SVD: one-sided Jacobi %.1f | Eigen JacobiSVD %.1f (%.2fx)\n", svd, eigenSvd,
                 eigenSvd / svd);
+    const double eig3 = nsPerElement("BM_SymmetricEigen3");
+    const double eigenEig3 = nsPerElement("BM_EigenSelfAdjoint3");
+    std::printf("symmetric 3x3 eigen: closed form %.1f | Eigen SelfAdjointEigenSolver %.1f (%.2fx)\n", eig3,
+                eigenEig3, eigenEig3 / eig3);
     std::printf("speed-up over numerical: %.2fx including SVD, %.2fx excluding SVD\n", numerical / including,
                 numerical / excluding);
   }

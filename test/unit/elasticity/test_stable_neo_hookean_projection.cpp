@@ -142,6 +142,25 @@ TEST(SnhProjection, StructuredStatesWithRepeatedSingularValues) {
   }
 }
 
+TEST(SnhProjection, RandomScalesSweepStaysFiniteAndExact) {
+  // Entries of random sign and magnitude 1e-6..1e6 (graded, nearly singular and huge elements).
+  std::mt19937 rng(24);
+  std::uniform_real_distribution<double> exponent(-6.0, 6.0);
+  std::bernoulli_distribution negative(0.5);
+  for (SnhVariant variant : kVariants) {
+    const StableNeoHookean snh(1.0, 100.0, variant);
+    for (int n = 0; n < 1000; ++n) {
+      Eigen::Matrix3d F;
+      for (int e = 0; e < 9; ++e) F.data()[e] = (negative(rng) ? -1.0 : 1.0) * std::pow(10.0, exponent(rng));
+      if (n % 2 == 1) F.col(n % 3) *= 1e-6;  // nearly flat element
+      const Matrix9d H = snh.hessian(F);
+      const Matrix9d P = snh.projectedHessian(F);
+      ASSERT_TRUE(P.allFinite()) << "F=\n" << F;
+      EXPECT_LE((P - numericalClamp(H)).norm(), 1e-10 * H.norm()) << "F=\n" << F;
+    }
+  }
+}
+
 TEST(SnhProjection, RestAndPositiveStatesAreNotModified) {
   // Near rest the Hessian is positive definite, so the projection must return it unchanged.
   const StableNeoHookean snh(1.0, 10.0);
