@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -202,38 +203,39 @@ Matrix9d StableNeoHookean::projectedHessian(const Eigen::Matrix3d& F) const {
 }
 
 Matrix9d StableNeoHookean::projectedHessian(const Eigen::Matrix3d& F, const RotationVariantSvd& svd) const {
-  // H_+ = H - sum over negative modes of lambda_i q_i q_i^T: only the (few) negative modes are formed.
-  Matrix9d H = hessian(F);
+  checkFinite(F, "projectedHessian");
+  // H_+ = K D_+ K^T with K = V (x) U (column r + 3c is vec(u_r v_c^T)) and D_+ the clamped Hessian in the
+  // singular basis: the scaling block on the diagonal entries D_mm and one 2x2 block per (D_ij, D_ji)
+  // pair (twist/flip modes). Built from the eigensystem alone, H_+ is PSD to rounding even where the
+  // exact Hessian evaluated from F suffers cancellation (huge, nearly flat elements).
   const Eigen::Vector3d& sig = svd.sigma;
   const Coefficients k = coefficients(sig.squaredNorm(), sig.prod());
-  const double r = std::sqrt(0.5);
-  for (int m = 0; m < 3; ++m) {
-    const double twist = k.a + k.s * sig(m);
-    const double flip = k.a - k.s * sig(m);
-    if (twist >= 0.0 && flip >= 0.0) continue;
-    const Vector9d wij = outerVec(svd.U, kPairI[m], svd.V, kPairJ[m]);
-    const Vector9d wji = outerVec(svd.U, kPairJ[m], svd.V, kPairI[m]);
-    if (twist < 0.0) {
-      const Vector9d q = r * (wij - wji);
-      H.noalias() -= twist * q * q.transpose();
-    }
-    if (flip < 0.0) {
-      const Vector9d q = r * (wij + wji);
-      H.noalias() -= flip * q * q.transpose();
-    }
-  }
-  // Scaling block (Smith et al. 2018 §4.3): skip the 3x3 eigensolve when it is positive definite.
-  const Eigen::Matrix3d A = scalingBlock(sig, k);
+  Matrix9d K;
+  for (int m = 0; m < 3; ++m)
+    for (int c = 0; c < 3; ++c) K.block<3, 3>(3 * m, 3 * c) = svd.V(m, c) * svd.U;
+  Matrix9d X;  // K D_+
+  // Scaling block (Smith et al. 2018 §4.3): clamp only if Sylvester's criterion says it is not PD.
+  Eigen::Matrix3d A = scalingBlock(sig, k);
   const double minor2 = A(0, 0) * A(1, 1) - A(0, 1) * A(0, 1);
-  if (A(0, 0) > 0.0 && minor2 > 0.0 && A.determinant() > 0.0) return H;  // Sylvester's criterion
-  const SymmetricEigen3 eig = symmetricEigen3(A);
-  for (int e = 0; e < 3; ++e) {
-    const double value = eig.values(e);
-    if (value >= 0.0) break;  // ascending order
-    Vector9d q = Vector9d::Zero();
-    for (int m = 0; m < 3; ++m) q += eig.vectors(m, e) * outerVec(svd.U, m, svd.V, m);
-    H.noalias() -= value * q * q.transpose();
+  if (!(A(0, 0) > 0.0 && minor2 > 0.0 && A.determinant() > 0.0)) {
+    const SymmetricEigen3 eig = symmetricEigen3(A);
+    A = eig.vectors * eig.values.cwiseMax(0.0).asDiagonal() * eig.vectors.transpose();
   }
+  for (int n = 0; n < 3; ++n) X.col(4 * n) = K.col(0) * A(0, n) + K.col(4) * A(1, n) + K.col(8) * A(2, n);
+  // Twist (antisymmetric, a + s sigma_k) and flip (symmetric, a - s sigma_k) modes of pair (i, j): the
+  // clamped 2x2 block is [[p, q], [q, p]] with p = (twist+ + flip+) / 2, q = (flip+ - twist+) / 2.
+  for (int m = 0; m < 3; ++m) {
+    const double twist = std::max(k.a + k.s * sig(m), 0.0);
+    const double flip = std::max(k.a - k.s * sig(m), 0.0);
+    const double p = 0.5 * (twist + flip);
+    const double q = 0.5 * (flip - twist);
+    const int ij = kPairI[m] + 3 * kPairJ[m];
+    const int ji = kPairJ[m] + 3 * kPairI[m];
+    X.col(ij) = p * K.col(ij) + q * K.col(ji);
+    X.col(ji) = q * K.col(ij) + p * K.col(ji);
+  }
+  Matrix9d H;
+  H.noalias() = X.lazyProduct(K.transpose());
   return H;
 }
 

@@ -54,9 +54,9 @@ public:
   Eigen::Matrix3d pk1(const Eigen::Matrix3d& F) const;
   /// Exact Hessian d^2 Psi / d vec(F)^2 (may be indefinite).
   Matrix9d hessian(const Eigen::Matrix3d& F) const;
-  /// Hessian with negative eigenvalues clamped to zero, from the analytic eigensystem (no 9x9 eigensolve):
-  /// the exact Hessian minus its negative twist/flip/scaling modes (usually few), which equals the sum of
-  /// the clamped modes but costs only one rank-1 update per negative mode.
+  /// Hessian with negative eigenvalues clamped to zero, assembled from the analytic eigensystem (twist and
+  /// flip modes in closed form, 3x3 scaling block solved small; no 9x9 eigensolve). Symmetric PSD to
+  /// rounding for every finite F, including F = 0, repeated or zero singular values and inversions.
   Matrix9d projectedHessian(const Eigen::Matrix3d& F) const;
   /// Same, reusing svd = rotationVariantSvd(F) that the caller already has (not re-checked).
   Matrix9d projectedHessian(const Eigen::Matrix3d& F, const RotationVariantSvd& svd) const;
