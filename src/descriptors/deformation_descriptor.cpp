@@ -52,6 +52,8 @@ DeformationDescriptor deformationDescriptor(const Window& window, const Eigen::M
   result.R = polar.R;
   result.S = polar.S;
   result.t = fit.yBar - polar.R * fit.xBar;  // t = y_bar - R x_bar
+  result.xBar = fit.xBar;
+  result.yBar = fit.yBar;
   result.normalCompleted = fit.normalCompleted;
   const Eigen::Matrix3Xd uBar = rigidFreeDisplacement(x, y, result.R, result.t);
   result.mu = fieldMoments(window, uBar, 1, order);  // eq. (11)

@@ -12,6 +12,8 @@ namespace {
 void checkFinite(const hermite::MomentList& a, const hermite::MomentList& b, const char* what) {
   if (!a.values().allFinite() || !b.values().allFinite())
     throw InvalidInputError(std::string(what) + ": descriptor contains NaN or Inf");
+  if (a.firstOrder() != b.firstOrder() || a.lastOrder() != b.lastOrder() || a.channels() != b.channels())
+    throw InvalidInputError(std::string(what) + ": descriptors have different orders or channels");
 }
 }  // namespace
 
@@ -19,7 +21,7 @@ double siteDistance(const hermite::MomentList& rho, const hermite::MomentList& r
   checkFinite(rho, rhoOther, "d_rho");
   hermite::MomentList difference = rho;
   difference.values() -= rhoOther.values();
-  return hermite::norm(difference);  // eq. (9); inner() checks the layouts
+  return hermite::norm(difference);  // eq. (9)
 }
 
 double deformationDistance(const hermite::MomentList& mu, const hermite::MomentList& muOther) {

@@ -69,6 +69,12 @@ double inner(const MomentList& a, const MomentList& b) {
   return (a.multiplicities().array() * a.values().array() * b.values().array()).sum();
 }
 
-double norm(const MomentList& a) { return std::sqrt(inner(a, a)); }
+double norm(const MomentList& a) {
+  // Scaled by the largest entry so that tiny or huge moments neither underflow nor overflow.
+  const double scale = a.values().cwiseAbs().maxCoeff();
+  if (!(scale > 0.0) || !std::isfinite(scale)) return scale > 0.0 ? scale : 0.0;
+  const Eigen::ArrayXd scaled = a.values().array() / scale;
+  return scale * std::sqrt((a.multiplicities().array() * scaled * scaled).sum());
+}
 
 }  // namespace deformation_enrichment::hermite

@@ -16,6 +16,8 @@ struct DeformationDescriptor {
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  ///< rotation of the polar decomposition F = R S
   Eigen::Matrix3d S = Eigen::Matrix3d::Identity();  ///< stretch of the polar decomposition
   Eigen::Vector3d t = Eigen::Vector3d::Zero();      ///< t = y_bar - R x_bar
+  Eigen::Vector3d xBar = Eigen::Vector3d::Zero();   ///< weighted rest centroid of the window
+  Eigen::Vector3d yBar = Eigen::Vector3d::Zero();   ///< weighted deformed centroid of the window
   bool normalCompleted = false;  ///< the samples were coplanar and the normals completed F
   hermite::MomentList mu;        ///< orders 1..N, 3 channels, in the rest shape's (world) axes
 };
