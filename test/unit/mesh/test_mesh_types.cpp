@@ -4,6 +4,8 @@
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/grid_tet_mesh.hpp"
+#include "deformation_enrichment/mesh/mesh_state.hpp"
+#include "deformation_enrichment/mesh/polygon_triangulation.hpp"
 #include "deformation_enrichment/mesh/tet_mesh.hpp"
 #include "deformation_enrichment/mesh/tet_surface.hpp"
 #include "deformation_enrichment/mesh/triangle_mesh.hpp"
@@ -108,4 +110,28 @@ TEST(TetSurface, BoxSurfaceIsClosedOutwardAndHasTheBoxArea) {
   EXPECT_NEAR(volume, 2.0, 1e-12);
   for (size_t v = 0; v < s.surfaceToVolume.size(); ++v)
     EXPECT_EQ(s.surface.vertices.col(v), grid.vertices.col(s.surfaceToVolume[v]));
+}
+
+TEST(MeshState, ChecksCountAndFiniteness) {
+  Eigen::Matrix3Xf state = Eigen::Matrix3Xf::Zero(3, 5);
+  EXPECT_NO_THROW(mesh::validateMeshState(state, 5));
+  EXPECT_THROW(mesh::validateMeshState(state, 6), InvalidInputError);
+  state(1, 3) = std::numeric_limits<float>::infinity();
+  try {
+    mesh::validateMeshState(state, 5);
+    FAIL() << "an Inf coordinate was accepted";
+  } catch (const InvalidInputError& e) {
+    EXPECT_NE(std::string(e.what()).find("point 3"), std::string::npos) << e.what();
+  }
+}
+
+TEST(PolygonTriangulation, FansQuadsSkipsLinesAndRejectsBadIndices) {
+  const std::vector<std::vector<int>> polygons{{0, 1, 2, 3}, {1, 2}, {3, 2, 4}};
+  const auto identity = [](const std::vector<int>& p) -> const auto& { return p; };
+  const Eigen::Matrix3Xi tris = mesh::fanTriangulate(polygons, 5, identity);
+  ASSERT_EQ(tris.cols(), 3);
+  EXPECT_EQ(tris.col(0), Eigen::Vector3i(0, 1, 2));
+  EXPECT_EQ(tris.col(1), Eigen::Vector3i(0, 2, 3));
+  EXPECT_EQ(tris.col(2), Eigen::Vector3i(3, 2, 4));
+  EXPECT_THROW(mesh::fanTriangulate(polygons, 4, identity), InvalidInputError);
 }
