@@ -48,6 +48,7 @@ public:
   const PointSampling& sampling() const { return sampling_; }
   const mesh::TriangleMesh& surface() const { return surface_; }
   const Eigen::Matrix3Xd& surfaceNormals() const { return surfaceNormals_; }
+  const std::vector<int>& surfaceToSample() const { return surfaceToSample_; }
 
   /// Outward normal at the surface vertex nearest to p.
   Eigen::Vector3d normalAt(const Eigen::Vector3d& p) const;
