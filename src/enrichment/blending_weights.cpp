@@ -33,8 +33,10 @@ ExampleDescriptorTable::ExampleDescriptorTable(const std::vector<hermite::Moment
                             std::to_string(mu.size()) + " deformation descriptors");
   rhoLayout_ = rho.front();
   muLayout_ = mu.front();
-  const Eigen::VectorXd rhoMetric = rhoLayout_.multiplicities().cwiseSqrt();
-  const Eigen::VectorXd muMetric = muLayout_.multiplicities().cwiseSqrt();
+  rhoMetric_ = rhoLayout_.multiplicities().cwiseSqrt();
+  muMetric_ = muLayout_.multiplicities().cwiseSqrt();
+  const Eigen::VectorXd& rhoMetric = rhoMetric_;
+  const Eigen::VectorXd& muMetric = muMetric_;
   const Eigen::Index count = static_cast<Eigen::Index>(rho.size());
   rho_.resize(rhoMetric.size(), count);
   muUnit_.resize(muMetric.size(), count);
@@ -50,6 +52,7 @@ ExampleDescriptorTable::ExampleDescriptorTable(const std::vector<hermite::Moment
     muZero_[i] = length == 0.0;
     muUnit_.col(i) = muZero_[i] ? Eigen::VectorXd::Zero(scaled.size()) : Eigen::VectorXd(scaled / length);
   }
+  rhoSquaredNorm_ = rho_.colwise().squaredNorm().transpose();
 }
 
 void correlate(const ExampleDescriptorTable& examples, const hermite::MomentList& rho,
@@ -59,16 +62,25 @@ void correlate(const ExampleDescriptorTable& examples, const hermite::MomentList
     throw InvalidInputError("correlate: descriptor layout differs from the examples'");
   if (!rho.values().allFinite() || !mu.values().allFinite())
     throw InvalidInputError("correlate: current descriptor contains NaN or Inf");
-  const Eigen::VectorXd rhoQuery = examples.rhoLayout().multiplicities().cwiseSqrt().cwiseProduct(rho.values());
-  Eigen::VectorXd muQuery = examples.muLayout().multiplicities().cwiseSqrt().cwiseProduct(mu.values());
+  const Eigen::VectorXd rhoQuery = examples.rhoMetric().cwiseProduct(rho.values());
+  Eigen::VectorXd muQuery = examples.muMetric().cwiseProduct(mu.values());
   const double muLength = scaledNorm(muQuery);
   const Eigen::Index count = examples.size();
   out.dRho.resize(count);
   out.dU.resize(count);
   out.weights.resize(count);
 
-  // eq. (9): column-wise Euclidean distance in the metric-scaled space.
-  out.dRho = (examples.rho().colwise() - rhoQuery).colwise().norm().transpose();
+  // eq. (9) in the metric-scaled space, expanded as |q|^2 + |e_i|^2 - 2 <q, e_i>: one matrix-vector product
+  // over the contiguous table. Where that cancels badly (d_rho^2 below 1e-6 of the norms) the difference
+  // is summed directly, so near-identical descriptors keep full precision.
+  const double querySquaredNorm = rhoQuery.squaredNorm();
+  out.dRho.noalias() = examples.rho().transpose() * rhoQuery;
+  out.dRho = (examples.rhoSquaredNorm().array() + querySquaredNorm - 2.0 * out.dRho.array()).max(0.0).matrix();
+  for (Eigen::Index i = 0; i < count; ++i) {
+    if (out.dRho[i] < 1e-6 * (examples.rhoSquaredNorm()[i] + querySquaredNorm))
+      out.dRho[i] = (examples.rho().col(i) - rhoQuery).squaredNorm();
+  }
+  out.dRho = out.dRho.cwiseSqrt();
   // eq. (14): 1 - cosine; the cosines of all examples are one matrix-vector product.
   if (muLength > 0.0) {
     muQuery /= muLength;

@@ -43,8 +43,32 @@ int basisSize(int firstOrder, int lastOrder) {
   return orderOffset(lastOrder + 1) - orderOffset(firstOrder);
 }
 
+namespace {
+// Flattened multi-index table of orders 0..kMaxHermiteOrder and the 1/sqrt(n!) factors, built once so the
+// per-sample loop touches only small contiguous arrays.
+struct BasisTable {
+  static constexpr int kSize = (kMaxHermiteOrder + 1) * (kMaxHermiteOrder + 2) * (kMaxHermiteOrder + 3) / 6;
+  int exponent[kSize][3];
+  double scale[kSize];
+  BasisTable() {
+    int position = 0;
+    for (int n = 0; n <= kMaxHermiteOrder; ++n)
+      for (const MultiIndex& alpha : multiIndices(n)) {
+        for (int axis = 0; axis < 3; ++axis) exponent[position][axis] = alpha[axis];
+        scale[position] = 1.0 / std::sqrt(factorial(n));  // eq. (3): 1/sqrt(n!)
+        ++position;
+      }
+  }
+};
+const BasisTable& basisTable() {
+  static const BasisTable table;
+  return table;
+}
+}  // namespace
+
 void evaluateBasis(const Eigen::Vector3d& r, int firstOrder, int lastOrder, double* out) {
   checkRange(firstOrder, lastOrder);
+  const BasisTable& table = basisTable();
   // Univariate tables He_k(r_i), k <= lastOrder, then products per multi-index.
   double he[3][kMaxHermiteOrder + 1];
   for (int axis = 0; axis < 3; ++axis) {
@@ -52,11 +76,10 @@ void evaluateBasis(const Eigen::Vector3d& r, int firstOrder, int lastOrder, doub
     if (lastOrder >= 1) he[axis][1] = r[axis];
     for (int k = 1; k < lastOrder; ++k) he[axis][k + 1] = r[axis] * he[axis][k] - k * he[axis][k - 1];
   }
-  int position = 0;
-  for (int n = firstOrder; n <= lastOrder; ++n) {
-    const double scale = 1.0 / std::sqrt(factorial(n));  // eq. (3): 1/sqrt(n!)
-    for (const MultiIndex& alpha : multiIndices(n))
-      out[position++] = scale * he[0][alpha[0]] * he[1][alpha[1]] * he[2][alpha[2]];
+  const int begin = orderOffset(firstOrder), end = orderOffset(lastOrder + 1);
+  for (int c = begin; c < end; ++c) {
+    const int* e = table.exponent[c];
+    *out++ = table.scale[c] * he[0][e[0]] * he[1][e[1]] * he[2][e[2]];
   }
 }
 

@@ -32,8 +32,15 @@ public:
   const hermite::MomentList& rhoLayout() const { return rhoLayout_; }
   const hermite::MomentList& muLayout() const { return muLayout_; }
 
+  /// |rho_i|^2 in the metric (for the expanded form of eq. 9).
+  const Eigen::VectorXd& rhoSquaredNorm() const { return rhoSquaredNorm_; }
+  /// sqrt(multiplicity) per component, for scaling a query.
+  const Eigen::VectorXd& rhoMetric() const { return rhoMetric_; }
+  const Eigen::VectorXd& muMetric() const { return muMetric_; }
+
 private:
   Eigen::MatrixXd rho_, muUnit_;
+  Eigen::VectorXd rhoSquaredNorm_, rhoMetric_, muMetric_;
   Eigen::Array<bool, Eigen::Dynamic, 1> muZero_;
   hermite::MomentList rhoLayout_, muLayout_;
 };
