@@ -146,3 +146,28 @@ TEST(HermiteBasis, DotProductEqualsIntegralOfReconstructions) {
   EXPECT_NEAR(norm(tau), std::sqrt(inner(tau, tau)), 1e-15);
   EXPECT_THROW(inner(tau, MomentList(0, 3)), InvalidInputError);
 }
+
+TEST(HermiteBasis, RodriguesFormulaByFiniteDifferences) {
+  // eq. (3): (-1)^n grad^n omega = sqrt(n!) H_n omega. Equivalent recurrence, checked by central differences:
+  // d/dr_i [He_alpha(r) omega(r)] = -He_{alpha + e_i}(r) omega(r), for all alpha of order <= 3.
+  const Eigen::Vector3d r(0.3, -0.7, 1.1);
+  const double step = 1e-5;
+  auto heOmega = [](const MultiIndex& alpha, const Eigen::Vector3d& x) {
+    return hermiteHe(alpha[0], x[0]) * hermiteHe(alpha[1], x[1]) * hermiteHe(alpha[2], x[2]) *
+           gaussianWindow(x.squaredNorm());
+  };
+  for (int n = 0; n <= 3; ++n)
+    for (const MultiIndex& alpha : multiIndices(n))
+      for (int axis = 0; axis < 3; ++axis) {
+        const Eigen::Vector3d e = Eigen::Vector3d::Unit(axis) * step;
+        const double derivative = (heOmega(alpha, r + e) - heOmega(alpha, r - e)) / (2.0 * step);
+        MultiIndex raised = alpha;
+        ++raised[axis];
+        const double expected = -heOmega(raised, r);
+        EXPECT_NEAR(derivative, expected, 1e-8) << "order " << n << " axis " << axis;
+        // And the stored basis value is He_alpha / sqrt(n!).
+        const Eigen::VectorXd basis = evaluateBasis(r, n + 1, n + 1);
+        EXPECT_NEAR(basis[componentIndex(raised)] * std::sqrt(factorial(n + 1)) * gaussianWindow(r.squaredNorm()),
+                    heOmega(raised, r), 1e-14);
+      }
+}
