@@ -16,6 +16,7 @@ namespace {
 constexpr const char* kWhere = "mlsDeformationGradient: ";
 
 struct Moments {
+  double W;  // sum of the normalised weights
   Eigen::Vector3d xBar, yBar;
   Eigen::Matrix3d Apq, Aqq;
 };
@@ -32,18 +33,23 @@ Moments weightedMoments(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& y, co
   if (!y.allFinite()) throw InvalidInputError(std::string(kWhere) + "deformed points contain NaN or Inf");
   if (!w.allFinite()) throw InvalidInputError(std::string(kWhere) + "weights contain NaN or Inf");
   if ((w.array() < 0.0).any()) throw InvalidInputError(std::string(kWhere) + "negative weight");
-  const double W = w.sum();
-  if (!(W > 0.0)) {
+  const double wMax = w.maxCoeff();
+  if (!(wMax > 0.0)) {
     throw InvalidInputError(std::string(kWhere) +
                             "all weights are zero (is the evaluation point far from every sample?)");
   }
+  // F and the centroids do not change when all weights are scaled; scaling by the largest keeps sums of
+  // huge or subnormal weights finite and non-zero.
+  const Eigen::VectorXd wn = w / wMax;
+  const double W = wn.sum();
   Moments m;
-  m.xBar = x * w / W;
-  m.yBar = y * w / W;
+  m.W = W;
+  m.xBar = x * wn / W;
+  m.yBar = y * wn / W;
   const Eigen::Matrix3Xd q = x.colwise() - m.xBar;
   const Eigen::Matrix3Xd p = y.colwise() - m.yBar;
-  m.Apq = p * w.asDiagonal() * q.transpose();
-  m.Aqq = q * w.asDiagonal() * q.transpose();
+  m.Apq = p * wn.asDiagonal() * q.transpose();
+  m.Aqq = q * wn.asDiagonal() * q.transpose();
   return m;
 }
 
@@ -54,64 +60,82 @@ Eigen::Matrix3d solveShapeMatching(const Eigen::Matrix3d& Apq, const Eigen::Matr
   return Ft.transpose();
 }
 
-MlsDeformationGradient fit(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& y, const Eigen::VectorXd& w,
-                           const Eigen::Vector3d* restNormal, const Eigen::Vector3d* deformedNormal,
-                           const MlsOptions& options) {
+void checkTolerance(const MlsOptions& options) {
   if (!(options.coplanarTolerance > 0.0 && options.coplanarTolerance < 1.0)) {
     throw InvalidInputError(std::string(kWhere) + "coplanarTolerance must lie in (0, 1)");
   }
-  const Moments m = weightedMoments(x, y, w);
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(m.Aqq);
-  const Eigen::Vector3d lambda = eig.eigenvalues();  // ascending
-  const double W = w.sum();
-  // Coincident samples: the spread is at round-off level of the coordinates themselves.
-  const double roundOff = 64.0 * std::numeric_limits<double>::epsilon() * m.xBar.cwiseAbs().maxCoeff();
-  if (!(lambda[2] > 0.0) || std::sqrt(lambda[2] / W) <= roundOff) {
+}
+
+// Coincident samples: the spread is at round-off level of the coordinates themselves.
+void checkNotCoincident(double largestEigenvalue, double W, const Eigen::Vector3d& xBar) {
+  const double roundOff = 64.0 * std::numeric_limits<double>::epsilon() * xBar.cwiseAbs().maxCoeff();
+  if (!(largestEigenvalue > 0.0) || std::sqrt(largestEigenvalue / W) <= roundOff) {
     throw InvalidInputError(std::string(kWhere) + "all weighted samples coincide; F is undefined");
   }
+}
+
+// Volume samples: the plain shape-matching fit.
+MlsDeformationGradient fitVolume(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& y, const Eigen::VectorXd& w,
+                                 const MlsOptions& options) {
+  checkTolerance(options);
+  const Moments m = weightedMoments(x, y, w);
+  const Eigen::Vector3d lambda = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m.Aqq).eigenvalues();  // ascending
+  checkNotCoincident(lambda[2], m.W, m.xBar);
   const double tol = options.coplanarTolerance;
   if (lambda[1] < tol * lambda[2]) {
     throw InvalidInputError(std::string(kWhere) + "weighted samples are collinear; F is undefined");
   }
-
-  MlsDeformationGradient result;
-  result.xBar = m.xBar;
-  result.yBar = m.yBar;
-  if (lambda[0] >= tol * lambda[2]) {
-    result.F = solveShapeMatching(m.Apq, m.Aqq);  // eq. F = A_pq A_qq^-1 (paper 000 §4.3, [MHTG05])
-    result.normalCompleted = false;
-    return result;
-  }
-
-  // Coplanar samples: complete the fit in the normal direction.
-  if (restNormal == nullptr || deformedNormal == nullptr) {
+  if (lambda[0] < tol * lambda[2]) {
     throw InvalidInputError(std::string(kWhere) +
                             "weighted samples are coplanar; pass the rest and deformed surface normals");
   }
-  if (!restNormal->allFinite() || !deformedNormal->allFinite()) {
+  MlsDeformationGradient result;
+  result.xBar = m.xBar;
+  result.yBar = m.yBar;
+  result.F = solveShapeMatching(m.Apq, m.Aqq);  // F = A_pq A_qq^-1 (paper 000 §4.3, [MHTG05])
+  result.normalCompleted = false;
+  return result;
+}
+
+// Surface samples: tangential columns from the samples, normal column from the normals.
+MlsDeformationGradient fitSurface(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& y, const Eigen::VectorXd& w,
+                                  const Eigen::Vector3d& restNormal, const Eigen::Vector3d& deformedNormal,
+                                  const MlsOptions& options) {
+  checkTolerance(options);
+  if (!restNormal.allFinite() || !deformedNormal.allFinite()) {
     throw InvalidInputError(std::string(kWhere) + "surface normal contains NaN or Inf");
   }
-  if (!(restNormal->norm() > 0.0) || !(deformedNormal->norm() > 0.0)) {
+  if (!(restNormal.norm() > 0.0) || !(deformedNormal.norm() > 0.0)) {
     throw InvalidInputError(std::string(kWhere) + "surface normal is the zero vector");
   }
-  const Eigen::Vector3d nx = restNormal->normalized();
-  const Eigen::Vector3d ny = deformedNormal->normalized();
-  const Eigen::Vector3d planeNormal = eig.eigenvectors().col(0);
-  if (std::abs(nx.dot(planeNormal)) < 0.1) {
-    throw InvalidInputError(std::string(kWhere) +
-                            "rest normal lies (almost) in the plane of the coplanar samples");
-  }
+  const Moments m = weightedMoments(x, y, w);
+  checkNotCoincident(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(m.Aqq).eigenvalues()[2], m.W, m.xBar);
+  const Eigen::Vector3d nx = restNormal.normalized();
+  const Eigen::Vector3d ny = deformedNormal.normalized();
 
-  // In-plane map from the pseudo-inverse of A_qq on the sample plane, to measure the area ratio.
-  const Eigen::Vector3d t1 = eig.eigenvectors().col(1), t2 = eig.eigenvectors().col(2);
-  const Eigen::Matrix3d AqqPinv = t1 * t1.transpose() / lambda[1] + t2 * t2.transpose() / lambda[2];
-  const Eigen::Matrix3d Fplane = m.Apq * AqqPinv;
-  const double areaRatio = (Fplane * t1).cross(Fplane * t2).norm();
+  // Project rest offsets on the rest tangent plane and deformed offsets on the deformed one:
+  // q_t = T Tᵀ q, p_t = (I - n_y n_yᵀ) p. Then A_{p_t q_t} = P_y A_pq T Tᵀ and A_{q_t q_t} = T (Tᵀ A_qq T) Tᵀ.
+  Eigen::Matrix<double, 3, 2> T;  // orthonormal rest tangent basis
+  T.col(0) = nx.unitOrthogonal();
+  T.col(1) = nx.cross(T.col(0));
+  const Eigen::Matrix2d Mtt = T.transpose() * m.Aqq * T;
+  const Eigen::Vector2d mu = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(Mtt).eigenvalues();  // ascending
+  if (!(mu[0] >= options.coplanarTolerance * mu[1]) || !(mu[1] > 0.0)) {
+    throw InvalidInputError(std::string(kWhere) +
+                            "weighted samples projected on the rest tangent plane are collinear "
+                            "(collinear samples, or a rest normal lying in the sample plane)");
+  }
+  const Eigen::Matrix3d Py = Eigen::Matrix3d::Identity() - ny * ny.transpose();
+  const Eigen::Matrix<double, 3, 2> Apt = Py * m.Apq * T;
+  // Tangential part G = A_{p_t q_t} A_{q_t q_t}^+ = Apt Mtt^-1 Tᵀ (shape matching restricted to the plane).
+  const Eigen::Matrix<double, 3, 2> GT = Mtt.ldlt().solve(Apt.transpose()).transpose();
+  if (!GT.allFinite()) throw NumericalError(std::string(kWhere) + "tangential solve produced NaN");
+  const double areaRatio = GT.col(0).cross(GT.col(1)).norm();
 
   double stretch = 1.0;
   switch (options.normalStretch) {
     case NormalStretch::DeformationTransfer:
-      stretch = std::sqrt(areaRatio);  // |e1 x e2| / sqrt|e1 x e2| scales like sqrt(area)
+      stretch = std::sqrt(areaRatio);  // fourth vertex e1 x e2 / sqrt|e1 x e2| scales like sqrt(area)
       break;
     case NormalStretch::Unit:
       stretch = 1.0;
@@ -125,12 +149,10 @@ MlsDeformationGradient fit(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& y,
       break;
   }
 
-  // Virtual sample (q, p) = (n_x, stretch n_y) with weight s of the in-plane spread's size, so the
-  // completed A_qq is well conditioned. For exactly coplanar samples the result does not depend on s.
-  const double s = lambda[1] + lambda[2];
-  const Eigen::Matrix3d Aqq = m.Aqq + s * nx * nx.transpose();
-  const Eigen::Matrix3d Apq = m.Apq + s * stretch * ny * nx.transpose();
-  result.F = solveShapeMatching(Apq, Aqq);
+  MlsDeformationGradient result;
+  result.xBar = m.xBar;
+  result.yBar = m.yBar;
+  result.F = GT * T.transpose() + stretch * ny * nx.transpose();  // F = G + lambda n_y n_xᵀ
   result.normalCompleted = true;
   return result;
 }
@@ -139,14 +161,14 @@ MlsDeformationGradient fit(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& y,
 
 MlsDeformationGradient mlsDeformationGradient(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& y,
                                               const Eigen::VectorXd& w, const MlsOptions& options) {
-  return fit(x, y, w, nullptr, nullptr, options);
+  return fitVolume(x, y, w, options);
 }
 
 MlsDeformationGradient mlsDeformationGradient(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& y,
                                               const Eigen::VectorXd& w, const Eigen::Vector3d& restNormal,
                                               const Eigen::Vector3d& deformedNormal,
                                               const MlsOptions& options) {
-  return fit(x, y, w, &restNormal, &deformedNormal, options);
+  return fitSurface(x, y, w, restNormal, deformedNormal, options);
 }
 
 }  // namespace deformation_enrichment::kinematics

@@ -1,12 +1,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include <Eigen/Geometry>
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/kinematics/mls_deformation_gradient.hpp"
+#include "deformation_enrichment/kinematics/polar_decomposition.hpp"
 
 using namespace deformation_enrichment;
 using kinematics::mlsDeformationGradient;
@@ -88,15 +90,61 @@ TEST(MlsDeformationGradient, CoplanarPatchWithNormalsIsExact) {
   EXPECT_NEAR(mlsDeformationGradient(x, y, w, nx, ny, incompressible).F.determinant(), 1.0, 1e-11);
 }
 
-// Normals are only a completion: a genuinely 3D cloud ignores them (no bias of the exact fit).
-TEST(MlsDeformationGradient, NormalsIgnoredFor3DCloud) {
-  std::srand(9);
-  const Eigen::Matrix3Xd x = Eigen::Matrix3Xd::Random(3, 15);
-  const Eigen::Matrix3d A = randomRotation(4) * Eigen::Vector3d(1.2, 0.9, 1.1).asDiagonal();
-  const auto r = mlsDeformationGradient(x, A * x, Eigen::VectorXd::Ones(15), Eigen::Vector3d::UnitZ(),
-                                        Eigen::Vector3d::UnitX());
-  EXPECT_FALSE(r.normalCompleted);
-  EXPECT_LT((r.F - A).norm(), 1e-12);
+namespace {
+// Points on a spherical cap of radius radius around the north pole (rest normal +z at the pole),
+// on an irregular (random) set of sample positions, so nothing cancels by symmetry.
+Eigen::Matrix3Xd sphericalCap(double radius, double capRadius, int count, unsigned seed) {
+  std::srand(seed);
+  Eigen::Matrix3Xd x(3, count);
+  for (int m = 0; m < count; ++m) {
+    const Eigen::Vector2d t = capRadius * Eigen::Vector2d::Random();
+    x.col(m) << t, std::sqrt(radius * radius - t.squaredNorm()) - radius;  // pole at the origin
+  }
+  return x;
+}
+}  // namespace
+
+// Surface samples on a curved patch: a rigid motion gives F = R exactly (so descriptors built on it are
+// exactly rigid-invariant), and so does an affine map with consistent normals and matching stretch.
+TEST(MlsDeformationGradient, CurvedSurfacePatchRigidAndAffineAreExact) {
+  const Eigen::Matrix3Xd x = sphericalCap(0.1, 0.04, 60, 12);
+  const Eigen::VectorXd w = gaussianWeights(x, Eigen::Vector3d(0.005, -0.003, 0.0), 0.015);
+  const Eigen::Vector3d nx = Eigen::Vector3d::UnitZ();
+  const Eigen::Matrix3d Q = randomRotation(13);
+  const auto rigid = mlsDeformationGradient(x, (Q * x).colwise() + Eigen::Vector3d(1, 2, 3), w, nx, Q * nx);
+  EXPECT_TRUE(rigid.normalCompleted);
+  EXPECT_LT((rigid.F - Q).norm(), 1e-12);
+
+  Eigen::Matrix3d local = Eigen::Matrix3d::Zero();
+  local.topLeftCorner<2, 2>() << 1.2, 0.3, -0.1, 0.9;
+  local(2, 2) = std::sqrt(local.topLeftCorner<2, 2>().determinant());
+  const Eigen::Matrix3d A = Q * local;
+  const auto affine = mlsDeformationGradient(x, A * x, w, nx, Q * nx);
+  EXPECT_LT((affine.F - A).norm(), 1e-12);
+}
+
+// Why surface samples need the normals: a 5 mm deep, 1 cm wide indentation at the pole of a 10 cm
+// sphere. The plain fit reads the normal column off the curvature offsets and inverts F; the surface
+// fit keeps the normal and the (absent) rotation at the indentation centre.
+TEST(MlsDeformationGradient, IndentationOfCurvedSurfaceNeedsTheNormals) {
+  const double radius = 0.1, depth = 0.005, width = 0.01, h = 0.01;
+  const Eigen::Matrix3Xd x = sphericalCap(radius, 0.04, 2000, 14);
+  Eigen::Matrix3Xd y = x;
+  for (Eigen::Index m = 0; m < x.cols(); ++m) {
+    const Eigen::Vector3d n = (x.col(m) + Eigen::Vector3d(0, 0, radius)).normalized();  // sphere normal
+    y.col(m) -= depth * std::exp(-0.5 * x.col(m).head<2>().squaredNorm() / (width * width)) * n;
+  }
+  const Eigen::VectorXd w = gaussianWeights(x, Eigen::Vector3d::Zero(), h);
+  const Eigen::Vector3d nz = Eigen::Vector3d::UnitZ();
+  const auto plain = mlsDeformationGradient(x, y, w);
+  const auto surface = mlsDeformationGradient(x, y, w, nz, nz);
+  std::printf("indentation: plain fit F_zz = %.3f, det F = %.3f; surface fit F_zz = %.3f, det F = %.3f\n",
+              plain.F(2, 2), plain.F.determinant(), surface.F(2, 2), surface.F.determinant());
+  EXPECT_LT(plain.F.determinant(), 0.0);  // the hazard this overload exists for
+  EXPECT_GT(surface.F.determinant(), 0.5);
+  // no spurious rotation at the centre (the random samples are only statistically symmetric)
+  EXPECT_LT((kinematics::polarDecomposition(surface.F).R - Eigen::Matrix3d::Identity()).norm(), 1e-3);
+  EXPECT_NEAR(surface.F(2, 2), std::sqrt(surface.F.topLeftCorner<2, 2>().determinant()), 1e-12);
 }
 
 TEST(MlsDeformationGradient, BadInputThrowsTypedErrors) {
@@ -136,4 +184,19 @@ TEST(MlsDeformationGradient, BadInputThrowsTypedErrors) {
   Eigen::VectorXd one = Eigen::VectorXd::Zero(6);
   one[4] = 1.0;
   EXPECT_THROW(mlsDeformationGradient(x, x, one), InvalidInputError);
+}
+
+// F depends on relative weights only; huge or subnormal weights must neither overflow nor vanish.
+TEST(MlsDeformationGradient, WeightScaleDoesNotMatter) {
+  std::srand(15);
+  const Eigen::Matrix3Xd x = Eigen::Matrix3Xd::Random(3, 12);
+  const Eigen::Matrix3Xd y = x + 0.2 * Eigen::Matrix3Xd::Random(3, 12);
+  const Eigen::VectorXd w = Eigen::VectorXd::Random(12).cwiseAbs();
+  const auto reference = mlsDeformationGradient(x, y, w);
+  for (double scale : {1e300, 1e-310}) {
+    const auto scaled = mlsDeformationGradient(x, y, Eigen::VectorXd(scale * w));
+    EXPECT_TRUE(scaled.F.allFinite());
+    EXPECT_LT((scaled.F - reference.F).norm(), 1e-9);
+    EXPECT_LT((scaled.yBar - reference.yBar).norm(), 1e-12);
+  }
 }
