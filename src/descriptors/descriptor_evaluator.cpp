@@ -1,6 +1,5 @@
 #include "deformation_enrichment/descriptors/descriptor_evaluator.hpp"
 
-#include <Eigen/Geometry>
 #include <string>
 
 #include "deformation_enrichment/error.hpp"
@@ -52,9 +51,6 @@ DescriptorEvaluator::DescriptorEvaluator(PointSampling sampling, mesh::TriangleM
         throw InvalidInputError("descriptor evaluator: surface vertex maps outside the samples");
   }
   surfaceNormals_ = mesh::vertexNormals(surface_);
-  vertexTriangles_.assign(surface_.numVertices(), {});
-  for (Eigen::Index t = 0; t < surface_.numTriangles(); ++t)
-    for (int k = 0; k < 3; ++k) vertexTriangles_[surface_.triangles(k, t)].push_back(static_cast<int>(t));
 }
 
 Eigen::Vector3d DescriptorEvaluator::normalAt(const Eigen::Vector3d& p) const {
@@ -80,25 +76,14 @@ ContactDescriptor DescriptorEvaluator::evaluate(const Eigen::Vector3d& p,
   ContactDescriptor result;
   result.p = p;
   const Window window = gatherWindow(sampling_, p, options_.window);
-  const int nearestSurface = surfaceIndex_.nearest(p);
-  result.normal = surfaceNormals_.col(nearestSurface);
+  result.normal = normalAt(p);
   result.rhoWorld = densityMoments(window, 0, options_.siteOrder);
 
-  // Deformed normal at the same surface vertex, for the MLS normal completion of flat sample sets.
-  Eigen::Vector3d deformedNormal = result.normal;
-  if (!surfaceToSample_.empty()) {
-    // Area-weighted like mesh::vertexNormals, over the vertex's own triangles only.
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (int t : vertexTriangles_[nearestSurface]) {
-      Eigen::Vector3d corner[3];
-      for (int k = 0; k < 3; ++k) corner[k] = deformedSamples.col(surfaceToSample_[surface_.triangles(k, t)]);
-      sum += (corner[1] - corner[0]).cross(corner[2] - corner[0]);
-    }
-    if (sum.allFinite() && sum.norm() > 0.0) deformedNormal = sum.normalized();
-  }
-  result.deformation = deformationDescriptor(window, sampling_.points(), deformedSamples,
-                                             options_.deformationOrder, &result.normal, &deformedNormal,
-                                             options_.mls);
+  // The samples fill the volume (tet vertices or an interior grid): the plain shape-matching fit. The
+  // normal-completed surface mode of kinematics/ is for surface-only samples (deformationDescriptor).
+  result.deformation =
+      deformationDescriptor(window, sampling_.points(), deformedSamples, options_.deformationOrder, nullptr,
+                            nullptr, options_.mls);
   result.frame = stampingFrame(result.normal, result.rhoWorld, &result.deformation->mu, options_.frameTolerance);
   const Eigen::Matrix3d toFrame = result.frame.B.transpose();
   result.rho = result.rhoWorld.transformed(toFrame);

@@ -5,6 +5,7 @@
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/hermite/hermite_basis.hpp"
+#include "deformation_enrichment/hermite/multi_index.hpp"
 
 namespace deformation_enrichment::descriptors {
 
@@ -51,10 +52,13 @@ Window gatherWindow(const PointSampling& sampling, const Eigen::Vector3d& p, con
 
 hermite::MomentList densityMoments(const Window& window, int firstOrder, int lastOrder) {
   hermite::MomentList moments(firstOrder, lastOrder, 1);
-  Eigen::VectorXd basis(moments.channelSize());
+  const int size = moments.channelSize();
+  double basis[hermite::orderOffset(hermite::kMaxHermiteOrder + 1)];
+  double* sum = moments.values().data();
   for (Eigen::Index k = 0; k < window.r.cols(); ++k) {
-    hermite::evaluateBasis(window.r.col(k), firstOrder, lastOrder, basis.data());
-    moments.values() += window.weight[k] * basis;  // eq. (8) with rho(x_m) = 1
+    hermite::evaluateBasis(window.r.col(k), firstOrder, lastOrder, basis);
+    const double w = window.weight[k];
+    for (int c = 0; c < size; ++c) sum[c] += w * basis[c];  // eq. (8) with rho(x_m) = 1
   }
   return moments;
 }
@@ -67,14 +71,16 @@ hermite::MomentList fieldMoments(const Window& window, const Eigen::Matrix3Xd& f
   if (!field.allFinite()) throw InvalidInputError("fieldMoments: field is not finite");
   hermite::MomentList moments(firstOrder, lastOrder, 3);
   const int size = moments.channelSize();
-  // Accumulate basis (x) field as a size x 3 matrix: one GEMM-like rank-1 update per sample (eq. 11).
-  Eigen::MatrixXd accumulated = Eigen::MatrixXd::Zero(size, 3);
-  Eigen::VectorXd basis(size);
+  double basis[hermite::orderOffset(hermite::kMaxHermiteOrder + 1)];
+  double* sum = moments.values().data();  // channel-major: u_x moments, then u_y, then u_z
   for (Eigen::Index k = 0; k < window.r.cols(); ++k) {
-    hermite::evaluateBasis(window.r.col(k), firstOrder, lastOrder, basis.data());
-    accumulated.noalias() += (window.weight[k] * basis) * field.col(k).transpose();
+    hermite::evaluateBasis(window.r.col(k), firstOrder, lastOrder, basis);
+    for (int channel = 0; channel < 3; ++channel) {
+      const double w = window.weight[k] * field(channel, k);  // eq. (11): u_bar (x) H_n, weighted
+      double* target = sum + channel * size;
+      for (int c = 0; c < size; ++c) target[c] += w * basis[c];
+    }
   }
-  for (int c = 0; c < 3; ++c) moments.values().segment(c * size, size) = accumulated.col(c);
   return moments;
 }
 

@@ -36,8 +36,6 @@ double hermiteHe(int k, double x) {
   return current;
 }
 
-int orderOffset(int order) { return order * (order + 1) * (order + 2) / 6; }
-
 int basisSize(int firstOrder, int lastOrder) {
   checkRange(firstOrder, lastOrder);
   return orderOffset(lastOrder + 1) - orderOffset(firstOrder);

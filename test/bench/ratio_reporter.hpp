@@ -15,11 +15,12 @@ public:
     ConsoleReporter::ReportRuns(runs);
     for (const Run& run : runs) {
       const std::string name = run.run_name.str();
-      const double microseconds = run.GetAdjustedRealTime() * toMicroseconds(run.time_unit);
+      const double unit = toMicroseconds(run.time_unit);
+      const Times times{run.GetAdjustedRealTime() * unit, run.GetAdjustedCPUTime() * unit};
       if (run.run_type == Run::RT_Aggregate) {
-        if (run.aggregate_name == "median") medians_[name] = microseconds;
+        if (run.aggregate_name == "median") medians_[name] = times;
       } else if (!aggregated_.count(name)) {
-        medians_[name] = microseconds;  // no repetitions: the single measurement
+        medians_[name] = times;  // no repetitions: the single measurement
       }
       if (run.run_type == Run::RT_Aggregate) aggregated_[name] = true;
     }
@@ -27,8 +28,10 @@ public:
 
   /// For every benchmark whose name contains "/<candidate>/", the one with "/<baseline>/" instead.
   void printRatios(const std::string& candidate, const std::string& baseline) const {
-    std::printf("\n%-44s %14s %14s %10s\n", "benchmark (median real time)", (candidate + " us").c_str(),
-                (baseline + " us").c_str(), "ratio");
+    // Real and CPU medians: on a shared, oversubscribed machine the CPU time is the steadier measure.
+    std::printf("\n%-44s %12s %12s %7s %12s %12s %7s\n", "benchmark (medians, us)", (candidate + " real").c_str(),
+                (baseline + " real").c_str(), "ratio", (candidate + " cpu").c_str(), (baseline + " cpu").c_str(),
+                "ratio");
     for (const auto& [name, time] : medians_) {
       const auto at = name.find("/" + candidate + "/");
       if (at == std::string::npos) continue;
@@ -36,7 +39,8 @@ public:
       other.replace(at + 1, candidate.size(), baseline);
       const auto match = medians_.find(other);
       if (match == medians_.end()) continue;
-      std::printf("%-44s %14.3f %14.3f %9.1fx\n", name.c_str(), time, match->second, match->second / time);
+      std::printf("%-44s %12.3f %12.3f %6.1fx %12.3f %12.3f %6.1fx\n", name.c_str(), time.real, match->second.real,
+                  match->second.real / time.real, time.cpu, match->second.cpu, match->second.cpu / time.cpu);
     }
   }
 
@@ -50,7 +54,10 @@ private:
     }
     return 1.0;
   }
-  std::map<std::string, double> medians_;
+  struct Times {
+    double real, cpu;
+  };
+  std::map<std::string, Times> medians_;
   std::map<std::string, bool> aggregated_;
 };
 

@@ -28,9 +28,11 @@ Eigen::Matrix3Xd rigidFreeDisplacement(const Eigen::Matrix3Xd& rest, const Eigen
 
 /// mu at the window's centre. `restPoints` / `deformedPoints` are the whole sampling's rest and deformed
 /// positions (the window indexes them). The MLS fit uses the window's quadrature weights q_m omega_m, so
-/// the fit is as mesh-independent as the moments. Normals (rest, deformed; may be null) complete the fit
-/// when the samples are coplanar. Throws InvalidInputError for an empty window (contact far from the
-/// mesh), mismatched sizes, NaN positions, or order outside [1, 4].
+/// the fit is as mesh-independent as the moments. Volume samples (tet vertices): pass no normals, F is the
+/// plain shape-matching fit. Surface-only samples (a coarse state holding surface vertices): pass the rest
+/// and deformed surface normals at p; kinematics' surface mode fits the tangential columns and completes
+/// the normal one from the normals (flat and curved patches alike). Throws InvalidInputError for an
+/// empty window (contact far from the mesh), mismatched sizes, NaN positions, or order outside [1, 4].
 DeformationDescriptor deformationDescriptor(const Window& window, const Eigen::Matrix3Xd& restPoints,
                                             const Eigen::Matrix3Xd& deformedPoints, int order,
                                             const Eigen::Vector3d* restNormal = nullptr,

@@ -39,8 +39,8 @@ class DescriptorEvaluator {
 public:
   /// Samples = the tet mesh's vertices with lumped volumes; surface = its boundary.
   DescriptorEvaluator(const mesh::TetMesh& rest, const DescriptorOptions& options);
-  /// Arbitrary samples with a surface for the normals. `surfaceToSample` maps surface vertices to samples
-  /// (needed for deformed normals; may be empty when no deformation is evaluated).
+  /// Arbitrary volume samples with a surface for the normals. `surfaceToSample` maps surface vertices to
+  /// samples (reported by segmentSites; may be empty, e.g. for an interior grid).
   DescriptorEvaluator(PointSampling sampling, mesh::TriangleMesh surface, std::vector<int> surfaceToSample,
                       const DescriptorOptions& options);
 

@@ -13,7 +13,7 @@ double gaussianWindow(double squaredRadius);
 double hermiteHe(int k, double x);
 
 /// Index of the first component of order n in a list that starts at order 0: sum_{k<n} (k+1)(k+2)/2.
-int orderOffset(int order);
+constexpr int orderOffset(int order) { return order * (order + 1) * (order + 2) / 6; }
 
 /// Total number of components of orders firstOrder..lastOrder.
 int basisSize(int firstOrder, int lastOrder);
