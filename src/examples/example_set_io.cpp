@@ -140,7 +140,13 @@ std::uint64_t fnv1a64(const void* data, std::size_t size) {
 void saveExampleSet(const ExampleSet& set, const std::string& directory) {
   if (!hostIsLittleEndian()) throw IoError(directory + ": example sets are little-endian; big-endian hosts are not supported");
   if (set.examples.empty()) throw InvalidInputError("saveExampleSet: the set has no examples");
-  for (std::size_t i = 0; i < set.examples.size(); ++i) validateExample(set.examples[i], "example " + std::to_string(i));
+  for (std::size_t i = 0; i < set.examples.size(); ++i) {
+    const Example& e = set.examples[i];
+    validateExample(e, "example " + std::to_string(i));
+    if (e.stamp.size() != set.examples[0].stamp.size() ||
+        std::abs(e.stampRadius - set.examples[0].stampRadius) > 1e-9 * set.examples[0].stampRadius)
+      throw InvalidInputError("saveExampleSet: example " + std::to_string(i) + " stamp size or radius differs from example 0");
+  }
 
   std::vector<char> blob;
   json examples = json::array();
@@ -279,6 +285,11 @@ ExampleSet loadExampleSet(const std::string& directory) {
     const int stampCols = r.integer(e, "stamp_cols", p);
     if (stampRows < 2 || stampCols < 2 || stampRows > 4096 || stampCols > 4096)
       r.fail("field " + p + " stamp size " + std::to_string(stampRows) + "x" + std::to_string(stampCols) + " outside [2, 4096]");
+    // eq. (16) blends stamps node by node, so a set shares one grid: same size and radius.
+    if (i > 0 && (stampRows != set.examples[0].stamp.rows || stampCols != set.examples[0].stamp.cols))
+      r.fail("field " + p + " stamp size differs from example 0 (a set shares one stamp grid)");
+    if (i > 0 && std::abs(ex.stampRadius - set.examples[0].stampRadius) > 1e-9 * std::abs(set.examples[0].stampRadius))
+      r.fail("field " + p + ".stamp_radius differs from example 0 (a set shares one stamp grid)");
     const json& offsetField = r.field(e, "stamp_offset_bytes", p);
     if (!offsetField.is_number_unsigned() || offsetField.get<std::uint64_t>() != expectedOffset)
       r.fail("field " + p + ".stamp_offset_bytes is not " + std::to_string(expectedOffset) + " (stamps must be packed in order)");

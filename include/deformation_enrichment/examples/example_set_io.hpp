@@ -24,13 +24,15 @@ constexpr const char* kStampBlobFile = "stamps.bin";
 std::uint64_t fnv1a64(const void* data, std::size_t size);
 
 /// Writes `set` into `directory` (created if missing). Throws InvalidInputError for an invalid example
-/// (validateExample) or an empty set, IoError when files cannot be written.
+/// (validateExample), an empty set or stamps of different size or radius, IoError when files cannot be
+/// written.
 void saveExampleSet(const ExampleSet& set, const std::string& directory);
 
 /// Reads and validates a set. Throws IoError ("<file>: <problem>") for a missing or unparsable manifest,
 /// wrong format name or version, missing or mistyped fields, non-finite numbers, wrong units, descriptor
 /// sizes that do not match their orders, inconsistent descriptor layouts across examples, a blob whose
-/// size or checksum does not match, non-finite stamp values, non-positive radius, non-orthonormal frame.
+/// size or checksum does not match, non-finite stamp values, non-positive radius, non-orthonormal frame,
+/// stamps whose size or radius differ between examples (eq. 16 blends them node by node).
 ExampleSet loadExampleSet(const std::string& directory);
 
 }  // namespace deformation_enrichment::examples

@@ -32,7 +32,7 @@ ex::Example makeExample(int seed, int rows = 8, int cols = 6) {
   e.stamp.create(rows, cols, CV_32FC3);
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) e.stamp.at<cv::Vec3f>(r, c) = cv::Vec3f(float(u(rng)), float(u(rng)), float(u(rng))) * 1e-3f;
-  e.stampRadius = 0.01 + 0.001 * seed;
+  e.stampRadius = 0.0125;
   e.pattern.indentDepth = 0.004;
   e.pattern.drag = Eigen::Vector3d(0.002, -0.001, 0.0);
   e.sceneId = "slab";
@@ -44,7 +44,7 @@ ex::ExampleSet makeSet() {
   set.metadata.scene = "slab";
   set.metadata.material = {{"young_modulus", 3000.0}, {"poisson_ratio", 0.45}};
   set.metadata.description = "unit test set";
-  set.examples = {makeExample(1), makeExample(2, 5, 5), makeExample(3)};
+  set.examples = {makeExample(1), makeExample(2), makeExample(3)};
   return set;
 }
 
@@ -179,9 +179,9 @@ TEST_F(ExampleSetIo, NonOrthonormalFrameIsRejected) {
 
 TEST_F(ExampleSetIo, NonPositiveRadiusIsRejected) {
   nlohmann::json m = manifest();
-  m["examples"][1]["stamp_radius"] = 0.0;
+  m["examples"][0]["stamp_radius"] = 0.0;
   writeManifest(m);
-  expectRejected("example 1: stamp radius is not positive");
+  expectRejected("example 0: stamp radius is not positive");
 }
 
 TEST_F(ExampleSetIo, DescriptorSizeMismatchIsRejected) {
@@ -193,9 +193,23 @@ TEST_F(ExampleSetIo, DescriptorSizeMismatchIsRejected) {
 
 TEST_F(ExampleSetIo, StampSizeInconsistentWithBlobIsRejected) {
   nlohmann::json m = manifest();
-  m["examples"][2]["stamp_rows"] = 9;  // claims more bytes than the blob holds
+  m["examples"][2]["stamp_rows"] = 9;  // claims another grid than example 0
+  writeManifest(m);
+  expectRejected("manifest.examples[2] stamp size differs from example 0");
+  m = manifest();
+  for (int i = 0; i < 3; ++i) {  // a consistent 9x6 grid claims more bytes than the blob holds
+    m["examples"][i]["stamp_rows"] = 9;
+    m["examples"][i]["stamp_offset_bytes"] = i * 9 * 6 * 3 * 4;
+  }
   writeManifest(m);
   expectRejected("past the blob");
+}
+
+TEST_F(ExampleSetIo, MixedStampRadiiAreRejected) {
+  nlohmann::json m = manifest();
+  m["examples"][1]["stamp_radius"] = 0.02;
+  writeManifest(m);
+  expectRejected("manifest.examples[1].stamp_radius differs from example 0");
 }
 
 TEST_F(ExampleSetIo, MissingManifestAndGarbageAreRejected) {
@@ -223,6 +237,9 @@ TEST_F(ExampleSetIo, RandomByteCorruptionNeverCrashes) {
 TEST(ExampleValidation, SaveRejectsInvalidExamples) {
   ex::ExampleSet set = makeSet();
   set.examples[1].frame(0, 0) += 0.1;
+  EXPECT_THROW(ex::saveExampleSet(set, (fs::temp_directory_path() / "de_never_written").string()), de::InvalidInputError);
+  set = makeSet();
+  set.examples[2] = makeExample(3, 5, 5);
   EXPECT_THROW(ex::saveExampleSet(set, (fs::temp_directory_path() / "de_never_written").string()), de::InvalidInputError);
   set = makeSet();
   set.examples.clear();
