@@ -52,8 +52,12 @@ struct StampMapper::KdTree {
   std::vector<std::pair<Eigen::Index, double>> matches;
 };
 
-StampMapper::StampMapper(Eigen::Matrix3Xd restVertices, double rimBand) : rest_(std::move(restVertices)), rimBand_(rimBand) {
+StampMapper::StampMapper(Eigen::Matrix3Xd restVertices, double rimBand, Eigen::Matrix3Xd restNormals)
+    : rest_(std::move(restVertices)), rimBand_(rimBand), normals_(std::move(restNormals)) {
   if (rest_.cols() == 0) throw InvalidInputError("StampMapper: the rest surface has no vertices");
+  if (normals_.cols() != 0 && normals_.cols() != rest_.cols())
+    throw InvalidInputError("StampMapper: " + std::to_string(normals_.cols()) + " normals for " + std::to_string(rest_.cols()) + " vertices");
+  if (!normals_.allFinite()) throw InvalidInputError("StampMapper: rest normals are not finite");
   if (!rest_.allFinite()) throw InvalidInputError("StampMapper: rest vertices are not finite");
   if (!(rimBand >= 0.0 && rimBand < 1.0)) throw InvalidInputError("StampMapper: rim band must lie in [0, 1)");
   index_ = std::make_unique<KdTree>(rest_);
@@ -93,6 +97,7 @@ void StampMapper::map(const std::vector<ContactStamp>& contacts, SurfaceEnrichme
     for (const auto& [vertex, squaredDistance] : index_->matches) {
       const double a = rimWeight(std::sqrt(squaredDistance) / contact.radius);
       if (a == 0.0) continue;
+      if (normals_.cols() != 0 && normals_.col(vertex).dot(contact.frame.col(2)) < 0.0) continue;  // far side
       const Eigen::Vector3d x = rest_.col(vertex) - contact.contact;
       const double phi = contact.frame.col(0).dot(x), varphi = contact.frame.col(1).dot(x);
       if (weightSum_[vertex] == 0.0) touched_.push_back(static_cast<int>(vertex));

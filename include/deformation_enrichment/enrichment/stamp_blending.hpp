@@ -11,7 +11,8 @@
 // i.e. stamps simply add where their weights sum to at most 1 and are averaged (normalised) only where
 // they overlap more than that, so two coinciding contacts give one stamp, not a doubled one. Every term is
 // continuous in x and vanishes at the rims, so e is continuous across stamp boundaries. Vertices outside
-// every stamp radius are not touched at all (not returned, their state untouched bit for bit).
+// every stamp radius are not touched at all (not returned, their state untouched bit for bit). Given rest
+// normals, back-facing vertices (n . b_z < 0) inside a ball are not touched either.
 #include <Eigen/Core>
 #include <memory>
 #include <opencv2/core.hpp>
@@ -48,9 +49,11 @@ struct SurfaceEnrichment {
 /// Displacement mapping onto one rest surface; the KD-tree (nanoflann) is built once here.
 class StampMapper {
 public:
-  /// `restVertices`: rest-state surface positions. rimBand in [0, 1). Throws InvalidInputError for no
-  /// vertices, NaN, or a band outside [0, 1).
-  explicit StampMapper(Eigen::Matrix3Xd restVertices, double rimBand = 0.2);
+  /// `restVertices`: rest-state surface positions. rimBand in [0, 1). `restNormals` (optional, 3 x n or
+  /// empty): vertices whose rest normal points away from the contact's b_z (n . b_z < 0, the far side
+  /// of a thin part inside the ball) are skipped. Throws InvalidInputError for no vertices, NaN, a band
+  /// outside [0, 1) or normals of the wrong size.
+  explicit StampMapper(Eigen::Matrix3Xd restVertices, double rimBand = 0.2, Eigen::Matrix3Xd restNormals = Eigen::Matrix3Xd());
   ~StampMapper();
   StampMapper(StampMapper&&) noexcept;
   StampMapper& operator=(StampMapper&&) noexcept;
@@ -74,6 +77,7 @@ private:
   struct KdTree;
   Eigen::Matrix3Xd rest_;
   double rimBand_;
+  Eigen::Matrix3Xd normals_;  // empty: no facing test
   std::unique_ptr<KdTree> index_;
   Eigen::Matrix3Xd sum_;           // scratch: sum_c a_c e_c per vertex
   Eigen::VectorXd weightSum_;      // scratch: sum_c a_c per vertex

@@ -175,6 +175,33 @@ TEST(StampBlending, CoincidingContactsDoNotDoubleTheDisplacement) {
   EXPECT_EQ(denseEnrichment(mapper, {}).cwiseAbs().maxCoeff(), 0.0);
 }
 
+TEST(StampBlending, NormalsKeepTheFarSideOfAThinPartUntouched) {
+  // A 3 mm thick plate: top face (normal +z) and bottom face (normal -z) both inside a 1 cm ball.
+  const Eigen::Matrix3Xd top = flatGrid(0.015, 0.001);
+  Eigen::Matrix3Xd bottom = top;
+  bottom.row(2).setConstant(-0.003);
+  Eigen::Matrix3Xd rest(3, 2 * top.cols()), normals(3, 2 * top.cols());
+  rest << top, bottom;
+  normals.leftCols(top.cols()).colwise() = Eigen::Vector3d::UnitZ();
+  normals.rightCols(top.cols()).colwise() = -Eigen::Vector3d::UnitZ();
+  const en::ContactStamp c = contactAt(Eigen::Vector3d::Zero(), 0.2, 0.01, 0.0);
+  en::SurfaceEnrichment withoutNormals, withNormals;
+  en::StampMapper plain(rest, 0.2);
+  plain.map({c}, withoutNormals);
+  en::StampMapper facing(rest, 0.2, normals);
+  facing.map({c}, withNormals);
+  EXPECT_GT(withoutNormals.vertices.back(), top.cols());  // the plain ball reaches the bottom face
+  ASSERT_FALSE(withNormals.vertices.empty());
+  EXPECT_LT(withNormals.vertices.back(), top.cols());  // the facing test keeps it untouched
+  // On the top face both agree.
+  std::size_t k = 0;
+  for (; k < withNormals.vertices.size(); ++k) {
+    EXPECT_EQ(withNormals.vertices[k], withoutNormals.vertices[k]);
+    EXPECT_EQ(withNormals.displacements.col(static_cast<Eigen::Index>(k)), withoutNormals.displacements.col(static_cast<Eigen::Index>(k)));
+  }
+  EXPECT_THROW((en::StampMapper{rest, 0.2, normals.leftCols(3)}), de::InvalidInputError);
+}
+
 TEST(StampBlending, BadInputThrows) {
   EXPECT_THROW(en::StampMapper{Eigen::Matrix3Xd(3, 0)}, de::InvalidInputError);
   Eigen::Matrix3Xd bad = Eigen::Matrix3Xd::Zero(3, 4);
