@@ -21,10 +21,15 @@ PointSampling sampleClosedSurfaceInterior(const mesh::TriangleMesh& surface, dou
   if (static_cast<double>(cells[0]) * cells[1] * cells[2] > static_cast<double>(maxSamples))
     throw InvalidInputError("interior sampling: spacing " + std::to_string(spacing) + " gives more than " +
                             std::to_string(maxSamples) + " grid cells");
-  // Cell centres, shifted by different irrational fractions per axis so that rays do not run through the
-  // edges of regular inputs (axis-aligned or diagonal), where a hit would count twice or not at all.
-  const Eigen::Vector3d shift = spacing * 1e-3 * Eigen::Vector3d(std::sqrt(2.0) - 1.0, std::sqrt(3.0) - 1.5, 0.1 * M_PI);
-  const Eigen::Vector3d origin = lo + Eigen::Vector3d::Constant(0.5 * spacing) + shift;
+  // The cells tile the bounding box exactly (per-axis step = extent / cells <= spacing), so the samples
+  // reach every face of the box symmetrically. Cell centres are shifted by different irrational fractions
+  // per axis so that rays do not run through the edges of regular inputs (axis-aligned or diagonal),
+  // where a hit would count twice or not at all.
+  Eigen::Vector3d step;
+  for (int axis = 0; axis < 3; ++axis) step[axis] = extent[axis] > 0.0 ? extent[axis] / cells[axis] : spacing;
+  const Eigen::Vector3d shift =
+      1e-3 * step.cwiseProduct(Eigen::Vector3d(std::sqrt(2.0) - 1.0, std::sqrt(3.0) - 1.5, 0.1 * M_PI));
+  const Eigen::Vector3d origin = lo + 0.5 * step + shift;
   const int nx = cells[0], ny = cells[1], nz = cells[2];
 
   // Crossing heights of every column's +z ray with the surface.
@@ -35,13 +40,13 @@ PointSampling sampleClosedSurfaceInterior(const mesh::TriangleMesh& surface, dou
     const Eigen::Vector3d c = surface.vertices.col(surface.triangles(2, t));
     const double area = (b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y());
     if (area == 0.0) continue;  // parallel to the rays
-    const int i0 = std::max(0, static_cast<int>(std::ceil((std::min({a.x(), b.x(), c.x()}) - origin.x()) / spacing)));
-    const int i1 = std::min(nx - 1, static_cast<int>(std::floor((std::max({a.x(), b.x(), c.x()}) - origin.x()) / spacing)));
-    const int j0 = std::max(0, static_cast<int>(std::ceil((std::min({a.y(), b.y(), c.y()}) - origin.y()) / spacing)));
-    const int j1 = std::min(ny - 1, static_cast<int>(std::floor((std::max({a.y(), b.y(), c.y()}) - origin.y()) / spacing)));
+    const int i0 = std::max(0, static_cast<int>(std::ceil((std::min({a.x(), b.x(), c.x()}) - origin.x()) / step.x())));
+    const int i1 = std::min(nx - 1, static_cast<int>(std::floor((std::max({a.x(), b.x(), c.x()}) - origin.x()) / step.x())));
+    const int j0 = std::max(0, static_cast<int>(std::ceil((std::min({a.y(), b.y(), c.y()}) - origin.y()) / step.y())));
+    const int j1 = std::min(ny - 1, static_cast<int>(std::floor((std::max({a.y(), b.y(), c.y()}) - origin.y()) / step.y())));
     for (int j = j0; j <= j1; ++j)
       for (int i = i0; i <= i1; ++i) {
-        const double x = origin.x() + i * spacing, y = origin.y() + j * spacing;
+        const double x = origin.x() + i * step.x(), y = origin.y() + j * step.y();
         // Barycentric coordinates of the column in the projected triangle.
         const double wa = ((b.x() - x) * (c.y() - y) - (c.x() - x) * (b.y() - y)) / area;
         const double wb = ((c.x() - x) * (a.y() - y) - (a.x() - x) * (c.y() - y)) / area;
@@ -61,15 +66,15 @@ PointSampling sampleClosedSurfaceInterior(const mesh::TriangleMesh& surface, dou
       std::sort(column.begin(), column.end());
       std::size_t below = 0;
       for (int k = 0; k < nz; ++k) {
-        const double z = origin.z() + k * spacing;
+        const double z = origin.z() + k * step.z();
         while (below < column.size() && column[below] < z) ++below;
-        if (below % 2 == 1) inside.emplace_back(origin.x() + i * spacing, origin.y() + j * spacing, z);
+        if (below % 2 == 1) inside.emplace_back(origin.x() + i * step.x(), origin.y() + j * step.y(), z);
       }
     }
   if (inside.empty()) throw InvalidInputError("interior sampling: no grid cell centre lies inside the surface");
   Eigen::Matrix3Xd points(3, inside.size());
   for (std::size_t m = 0; m < inside.size(); ++m) points.col(m) = inside[m];
-  return PointSampling(std::move(points), Eigen::VectorXd::Constant(inside.size(), spacing * spacing * spacing));
+  return PointSampling(std::move(points), Eigen::VectorXd::Constant(inside.size(), step.prod()));
 }
 
 }  // namespace deformation_enrichment::descriptors

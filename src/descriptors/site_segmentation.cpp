@@ -6,6 +6,7 @@
 #include <random>
 #include <string>
 
+#include "deformation_enrichment/descriptors/site_descriptor_table.hpp"
 #include "deformation_enrichment/error.hpp"
 
 namespace deformation_enrichment::descriptors {
@@ -125,12 +126,7 @@ KMeansResult kMeansSites(const std::vector<hermite::MomentList>& descriptors, co
 
 SiteSegmentation segmentSites(const DescriptorEvaluator& evaluator, const KMeansOptions& options) {
   SiteSegmentation segmentation;
-  const mesh::TriangleMesh& surface = evaluator.surface();
-  segmentation.descriptors.resize(surface.numVertices());
-  // Independent per vertex; the KD-tree queries are read-only.
-#pragma omp parallel for schedule(dynamic, 64)
-  for (Eigen::Index v = 0; v < surface.numVertices(); ++v)
-    segmentation.descriptors[v] = evaluator.evaluate(surface.vertices.col(v)).rho;
+  segmentation.descriptors = SiteDescriptorTable(evaluator).framedDescriptors();
   segmentation.surfaceToSample = evaluator.surfaceToSample();
   segmentation.clusters = kMeansSites(segmentation.descriptors, options);
   return segmentation;

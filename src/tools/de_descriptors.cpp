@@ -9,7 +9,8 @@
 // D.node: displaced positions of the same vertices. All moments are printed in world axes, each order as
 // its distinct components in lexicographic multi-index order (n=1: x y z; n=2: xx xy xz yy yz zz; ...),
 // each the tensor component itself (not multiplied by its multiplicity). mu holds, per order, three lists:
-// the moments of the x, y and z components of the rigid-free displacement (eq. 10).
+// the moments of the x, y and z components of the rigid-free displacement (eq. 10). Beyond the issue's
+// layout each point carries "frame_rule" (which rule fixed b_x) and, if it failed, "error" (exit code 1).
 #include <CLI/CLI.hpp>
 #include <fstream>
 #include <iostream>
@@ -130,8 +131,9 @@ int main(int argc, char** argv) {
                                 std::to_string(object.evaluator.sampling().size()));
     }
 
+    // The layout is {"points": [...]}; how the samples were made goes to stderr.
+    std::cerr << "de_descriptors: samples: " << object.sampling << '\n';
     Json output;
-    output["sampling"] = object.sampling;
     output["points"] = Json::array();
     int failures = 0;
     for (const Eigen::Vector3d& p : points) {
@@ -165,7 +167,6 @@ int main(int argc, char** argv) {
     if (json) {
       std::cout << output.dump(2) << '\n';
     } else {
-      std::cout << "samples: " << object.sampling << '\n';
       for (const Json& entry : output["points"]) {
         std::cout << "p = " << entry["p"].dump();
         if (entry.contains("error")) std::cout << "  error: " << entry["error"].get<std::string>() << '\n';

@@ -52,6 +52,8 @@ public:
 
   /// Outward normal at the surface vertex nearest to p.
   Eigen::Vector3d normalAt(const Eigen::Vector3d& p) const;
+  /// Index of the surface vertex nearest to p (throws InvalidInputError for non-finite p).
+  int nearestSurfaceVertex(const Eigen::Vector3d& p) const { return surfaceIndex_.nearest(p); }
 
   /// Site descriptor and frame at p (rest state).
   ContactDescriptor evaluate(const Eigen::Vector3d& p) const;

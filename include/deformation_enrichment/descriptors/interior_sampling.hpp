@@ -8,8 +8,9 @@
 
 namespace deformation_enrichment::descriptors {
 
-/// Grid of spacing `spacing` (metres) over the surface's bounding box, shifted by an irrational fraction of
-/// a cell so that rays almost surely miss edges and vertices. The volume quadrature of these samples is
+/// Grid over the surface's bounding box with per-axis step extent / ceil(extent / spacing) <= spacing
+/// (metres), so the cells tile the box exactly, centres shifted by an irrational fraction of a cell so
+/// that rays almost surely miss edges and vertices. The volume quadrature of these samples is
 /// the midpoint rule: error O(spacing^2) away from the surface, O(spacing) from the boundary cells.
 /// Throws InvalidInputError for an invalid surface, a non-positive spacing, more than `maxSamples` grid
 /// cells, a column crossed an odd number of times (surface not closed) or no inside sample.

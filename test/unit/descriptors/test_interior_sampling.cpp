@@ -1,11 +1,15 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <string>
+#include <unistd.h>
 
 #include "descriptor_test_support.hpp"
+#include "deformation_enrichment/descriptors/evaluator_loading.hpp"
 #include "deformation_enrichment/descriptors/interior_sampling.hpp"
 #include "deformation_enrichment/descriptors/moment_window.hpp"
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/mesh/mesh_io.hpp"
 #include "deformation_enrichment/mesh/tet_surface.hpp"
 
 using namespace deformation_enrichment;
@@ -41,4 +45,23 @@ TEST(InteriorSampling, RejectsOpenSurfacesAndBadSpacing) {
   for (std::size_t t = 0; t < keep.size(); ++t) triangles.col(t) = open.triangles.col(keep[t]);
   open.triangles = triangles;
   EXPECT_THROW(sampleClosedSurfaceInterior(open, 0.1), InvalidInputError);
+}
+
+TEST(InteriorSampling, ObjInputLoadsAsSiteOnlyEvaluator) {
+  char pattern[] = "/tmp/de_interior_XXXXXX";
+  const std::string dir = mkdtemp(pattern);
+  const Eigen::Vector3d lo(-1, -1, -1), hi(1, 1, 1);
+  mesh::writeTriangleMesh(dir + "/cube.obj", mesh::extractSurface(de_test::uniformBox(lo, hi, 3)).surface);
+  DescriptorOptions options;
+  options.window.scale = 0.3;
+  const LoadedObject object = loadDescriptorObject(dir + "/cube.obj", options);
+  EXPECT_FALSE(object.volumetric);
+  const Eigen::Vector3d p(0.35, -0.2, 1.0);
+  const ContactDescriptor contact = object.evaluator.evaluate(p);
+  EXPECT_LT(de_test::relativeError(contact.rhoWorld, de_test::boxMoments(lo, hi, p, 0.3, 3)), 0.03);
+  EXPECT_GT(contact.normal.z(), 0.999);
+  EXPECT_THROW(loadDescriptorObject(dir + "/cube.stl", options), InvalidInputError);
+  EXPECT_THROW(loadDescriptorObject(dir + "/missing.node", options), IoError);
+  std::remove((dir + "/cube.obj").c_str());
+  rmdir(dir.c_str());
 }

@@ -6,6 +6,7 @@
 #include "deformation_enrichment/descriptors/descriptor_distance.hpp"
 #include "deformation_enrichment/descriptors/descriptor_evaluator.hpp"
 #include "deformation_enrichment/descriptors/moment_window.hpp"
+#include "deformation_enrichment/descriptors/site_descriptor_table.hpp"
 #include "deformation_enrichment/error.hpp"
 
 using namespace deformation_enrichment;
@@ -183,4 +184,19 @@ TEST(SiteMoments, KdTreeAndBruteForceAgree) {
   const Window a = gatherWindow(sampling, p, kd), b = gatherWindow(sampling, p, brute);
   EXPECT_EQ(a.indices.size(), b.indices.size());
   EXPECT_NEAR(hermite::norm(densityMoments(a, 0, 4)), hermite::norm(densityMoments(b, 0, 4)), 1e-13);
+}
+
+TEST(SiteMoments, TableLooksUpTheNearestVertexDescriptor) {
+  DescriptorOptions options;
+  options.window.scale = 0.2;
+  const DescriptorEvaluator evaluator(de_test::uniformBox(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1), 5), options);
+  const SiteDescriptorTable table(evaluator);
+  ASSERT_EQ(table.size(), evaluator.surface().numVertices());
+  const Eigen::Index v = 17;
+  const Eigen::Vector3d vertex = evaluator.surface().vertices.col(v);
+  const ContactDescriptor direct = evaluator.evaluate(vertex);
+  EXPECT_EQ(table.atVertex(v).rho.values(), direct.rho.values());
+  EXPECT_EQ(table.nearest(vertex + Eigen::Vector3d(0.01, -0.01, 0.01)).rho.values(), direct.rho.values());
+  EXPECT_THROW(table.atVertex(table.size()), InvalidInputError);
+  EXPECT_THROW(table.nearest(Eigen::Vector3d(NAN, 0, 0)), InvalidInputError);
 }
