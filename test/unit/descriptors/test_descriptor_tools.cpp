@@ -39,7 +39,7 @@ struct TempDir {
 }  // namespace
 
 TEST(DescriptorTools, DeDescriptorsJsonMatchesTheLibrary) {
-  if (access(tool("de_descriptors").c_str(), X_OK) != 0) GTEST_SKIP() << "de_descriptors not built";
+  ASSERT_EQ(access(tool("de_descriptors").c_str(), X_OK), 0) << "de_descriptors not found at " << tool("de_descriptors");
   TempDir dir;
   const mesh::TetMesh cube = de_test::uniformBox(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1), 6);
   mesh::writeTetGen(dir.path + "/cube", cube);
@@ -89,7 +89,7 @@ TEST(DescriptorTools, DeDescriptorsJsonMatchesTheLibrary) {
 }
 
 TEST(DescriptorTools, DeSegmentWritesOneLabelPerSurfaceVertex) {
-  if (access(tool("de_segment").c_str(), X_OK) != 0) GTEST_SKIP() << "de_segment not built";
+  ASSERT_EQ(access(tool("de_segment").c_str(), X_OK), 0) << "de_segment not found at " << tool("de_segment");
   TempDir dir;
   const mesh::TetMesh cube = de_test::uniformBox(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1), 5);
   mesh::writeTetGen(dir.path + "/cube", cube);
