@@ -76,9 +76,12 @@ AverageResult elasticAverage(const DeformationEnergy& energy, const std::vector<
   double f = averageObjective(energy, weights, examples, result.shape, options.symmetric, &gradient);
   const double f0 = f;
 #ifdef DE_HAVE_CHOLMOD
-  Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;  // LLT: reports indefinite matrices
 #else
   Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
+#endif
+#ifdef DE_HAVE_CHOLMOD
+  solver.cholmod().print = 0;  // indefinite trial matrices are expected (handled by damping): no warnings
 #endif
   bool analysed = false;
   double damping = 1e-10;  // relative to the mean Hessian diagonal; only kills the rigid null space at first

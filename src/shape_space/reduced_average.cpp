@@ -12,7 +12,8 @@
 namespace deformation_enrichment::shape_space {
 
 ReducedSpace makeReducedSpace(const DeformationEnergy& energy, Eigen::VectorXd origin,
-                              std::shared_ptr<const Eigen::MatrixXd> basis, const Eigen::VectorXd& reference) {
+                              std::shared_ptr<const Eigen::MatrixXd> basis, const Eigen::VectorXd& reference,
+                              double ridgeFactor) {
   if (!basis || basis->cols() == 0) throw InvalidInputError("reduced space: the subspace has dimension 0");
   if (origin.size() != reference.size() || basis->rows() != reference.size())
     throw InvalidInputError("reduced space: subspace and reference shape differ in size");
@@ -23,8 +24,10 @@ ReducedSpace makeReducedSpace(const DeformationEnergy& energy, Eigen::VectorXd o
   const Eigen::MatrixXd& b = *space.basis;
   Eigen::MatrixXd hr = b.transpose() * (h * b);
   hr = 0.5 * (hr + hr.transpose());
-  // Rigid motions inside the subspace make hr singular; a ridge relative to its scale keeps it invertible.
-  const double ridge = 1e-8 * std::max(hr.diagonal().cwiseAbs().maxCoeff(), 1e-300);
+  // Rigid motions inside the subspace make hr singular. The ridge must not be tiny: the objective's rigid
+  // null space sits at the unknown shape, not at the reference, and a near-singular preconditioner would
+  // blow those slightly different directions up (measured: 1e-8 stalls L-BFGS, 1e-3 converges).
+  const double ridge = ridgeFactor * std::max(hr.diagonal().cwiseAbs().mean(), 1e-300);
   hr.diagonal().array() += ridge;
   space.preconditioner.compute(hr);
   if (space.preconditioner.info() != Eigen::Success)

@@ -38,9 +38,11 @@ struct ReducedSpace {
 };
 
 /// Builds the preconditioner from the reduced rest Hessian of E(reference, .) at the reference.
+/// ridgeFactor times the mean diagonal is added to it (rigid motions make it singular).
 /// Throws InvalidInputError for mismatched sizes or an empty basis.
 ReducedSpace makeReducedSpace(const DeformationEnergy& energy, Eigen::VectorXd origin,
-                              std::shared_ptr<const Eigen::MatrixXd> basis, const Eigen::VectorXd& reference);
+                              std::shared_ptr<const Eigen::MatrixXd> basis, const Eigen::VectorXd& reference,
+                              double ridgeFactor = 1e-3);
 
 /// Minimises eq. 10 (or eq. 1) over the subspace starting at the projection of `initial`.
 /// Throws NumericalError if L-BFGS fails or ends above the tolerance (never returns an unconverged shape).
