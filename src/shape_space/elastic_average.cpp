@@ -1,6 +1,7 @@
 #include "deformation_enrichment/shape_space/elastic_average.hpp"
 
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include <Eigen/SparseCore>
@@ -84,6 +85,7 @@ AverageResult elasticAverage(const DeformationEnergy& energy, const std::vector<
   solver.cholmod().print = 0;  // indefinite trial matrices are expected (handled by damping): no warnings
 #endif
   bool analysed = false;
+  int stalledSteps = 0;
   double damping = 1e-10;  // relative to the mean Hessian diagonal; only kills the rigid null space at first
   for (int it = 0;; ++it) {
     result.iterations = it;
@@ -124,8 +126,15 @@ AverageResult elasticAverage(const DeformationEnergy& energy, const std::vector<
       for (int ls = 0; ls < 30; ++ls, alpha *= 0.5) {
         const Eigen::VectorXd trial = result.shape + alpha * step;
         Eigen::VectorXd trialGradient;
-        const double ft = averageObjective(energy, weights, examples, trial, options.symmetric, &trialGradient);
+        double ft = std::numeric_limits<double>::infinity();
+        try {
+          ft = averageObjective(energy, weights, examples, trial, options.symmetric, &trialGradient);
+        } catch (const InvalidInputError&) {
+          // The trial step collapsed a triangle (the energy rejects degenerate shapes): step too long.
+        }
         if (std::isfinite(ft) && ft <= f - 1e-4 * alpha * decrement) {
+          // Progress below the objective's double-precision resolution: count it (see below).
+          stalledSteps = (f - ft <= 1e-13 * std::abs(f)) ? stalledSteps + 1 : 0;
           result.shape = trial;
           f = ft;
           gradient = trialGradient;
@@ -135,6 +144,15 @@ AverageResult elasticAverage(const DeformationEnergy& energy, const std::vector<
       }
       if (!accepted) damping *= 10.0;
       else damping = std::max(damping * 0.1, 1e-10);
+    }
+    if (accepted && stalledSteps >= 3) {
+      // Three accepted steps in a row that changed the objective by less than 1e-13 relative: the computed
+      // objective cannot be lowered further at double precision (seen on MD2 meshes whose skinny triangles
+      // make the Hessian extremely stiff). That is a minimiser to working precision; it is flagged.
+      result.objective = f;
+      result.iterations = it + 1;
+      result.stalledAtRoundOff = true;
+      return result;
     }
     if (!accepted) {
       // No descent even with heavy damping: either at a minimum up to round-off, or a failure.

@@ -49,19 +49,38 @@ GeodesicResult geodesic(const DeformationEnergy& energy, const Eigen::Matrix3Xi&
   while (int(shapes.size()) < options.shapes) {
     const int refined = std::min(options.shapes, (int(shapes.size()) - 1) * (options.insertPerSegment + 1) + 1);
     SmoothingFlow flow(energy, ShapeSequence{triangles, resample(shapes, refined)}, flowOptions);
-    const double start = flow.reducedPathGradientSquaredNorm();
-    const double threshold = std::max(options.absoluteFactor * double(flow.degreesOfFreedom()), options.relativeFactor * start);
+    const double start = flow.reducedResidualSquaredNorm();
+    double threshold = std::max(options.absoluteFactor * double(flow.degreesOfFreedom()), options.relativeFactor * start);
     double gradient = start;
-    result.converged = gradient <= threshold;
-    for (int it = 0; it < options.maxIterationsPerLevel && !result.converged; ++it) {
-      const FlowStep step = flow.step();
-      ++result.iterations;
-      result.pathEnergyHistory.push_back(step.pathEnergy);
-      gradient = flow.reducedPathGradientSquaredNorm();
+    for (int round = 0;; ++round) {
       result.converged = gradient <= threshold;
-      if (step.stalled) break;  // no tau decreases eq. 4 any more: as converged as this level gets
+      for (int it = 0; it < options.maxIterationsPerLevel && !result.converged; ++it) {
+        const FlowStep step = flow.step();
+        ++result.iterations;
+        result.pathEnergyHistory.push_back(step.pathEnergy);
+        gradient = flow.reducedResidualSquaredNorm();
+        result.converged = gradient <= threshold;
+        if (step.stalled) break;  // no tau decreases eq. 4 any more: as converged as this level gets
+      }
+      if (!flowOptions.reduced || round == options.enrichmentRounds) break;
+      // Check the unprojected residual with the full-space version of the rule.
+      FlowOptions fullOptions = flowOptions;
+      fullOptions.reduced = false;
+      const SmoothingFlow fullView(energy, flow.current(), fullOptions);
+      const double fullResidual = fullView.reducedResidualSquaredNorm();
+      const double fullThreshold = std::max(options.absoluteFactor * double(fullView.degreesOfFreedom()),
+                                            options.relativeFactor * start);
+      if (fullResidual <= fullThreshold) break;
+      flow.addDirections(flowTangents(energy, flow.current().shapes, false));
+      threshold = std::max(options.absoluteFactor * double(flow.degreesOfFreedom()), options.relativeFactor * start);
+      gradient = flow.reducedResidualSquaredNorm();
     }
     result.finalGradientSquaredNorm = gradient;
+    {
+      FlowOptions fullOptions = flowOptions;
+      fullOptions.reduced = false;
+      result.finalFullResidualSquaredNorm = SmoothingFlow(energy, flow.current(), fullOptions).reducedResidualSquaredNorm();
+    }
     shapes = flow.current().shapes;
     if (!result.converged && options.requireConvergence)
       throw NumericalError("geodesic: flow on " + std::to_string(refined) + " shapes did not meet the stopping rule (|g|^2 = " +

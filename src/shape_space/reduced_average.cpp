@@ -1,6 +1,7 @@
 #include "deformation_enrichment/shape_space/reduced_average.hpp"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -50,7 +51,13 @@ AverageResult reducedElasticAverage(const DeformationEnergy& energy, const std::
   const auto objective = [&](const Eigen::VectorXd& z, Eigen::VectorXd& gradZ) {
     ++evaluations;
     Eigen::VectorXd gradY;
-    const double f = averageObjective(energy, weights, examples, lift(z), options.symmetric, &gradY);
+    double f;
+    try {
+      f = averageObjective(energy, weights, examples, lift(z), options.symmetric, &gradY);
+    } catch (const InvalidInputError&) {  // a line-search trial collapsed a triangle: reject it
+      gradZ = Eigen::VectorXd::Zero(z.size());
+      return std::numeric_limits<double>::infinity();
+    }
     gradZ = lower.triangularView<Eigen::Lower>().solve(sub.basis->transpose() * gradY);
     if (!std::isfinite(f)) return std::numeric_limits<double>::infinity();
     return f;

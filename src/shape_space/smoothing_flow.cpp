@@ -15,6 +15,12 @@ namespace {
 
 int wrap(int i, int count) { return ((i % count) + count) % count; }
 
+// Parallel over shapes only when each shape is big enough: on small meshes the OpenMP team's idle
+// spinning costs more than the work (measured 5x slower on a loaded 2-core machine).
+bool parallelWorthIt(const std::vector<Eigen::VectorXd>& shapes) {
+  return shapes.size() > 1 && shapes.front().size() >= 3000;
+}
+
 }  // namespace
 
 Eigen::VectorXd pathGradientAt(const DeformationEnergy& energy, const Eigen::VectorXd& x, const Eigen::VectorXd* prev,
@@ -84,11 +90,12 @@ void SmoothingFlow::setCurrent(std::vector<Eigen::VectorXd> shapes) {
   AffineSubspace pca = pcaSubspace(current_.shapes, options_.subspaceDimension);
   if (int(current_.shapes.size()) < options_.flowDirectionShapes)
     enrich(pca, flowTangents(energy_, current_.shapes, options_.closed));
+  enrich(pca, extraDirections_);
   if (pca.dimension() == 0) throw InvalidInputError("flow: the shapes span no subspace (all identical?)");
   auto basis = std::make_shared<const Eigen::MatrixXd>(std::move(pca.basis));
   spaces_.resize(current_.shapes.size());
   std::exception_ptr error;
-#pragma omp parallel for schedule(dynamic)
+#pragma omp parallel for schedule(dynamic) if (parallelWorthIt(current_.shapes))
   for (int i = 0; i < int(current_.shapes.size()); ++i) {
     if (!isFree(i)) continue;
     try {
@@ -101,6 +108,16 @@ void SmoothingFlow::setCurrent(std::vector<Eigen::VectorXd> shapes) {
   if (error) std::rethrow_exception(error);
 }
 
+void SmoothingFlow::addDirections(const std::vector<Eigen::VectorXd>& directions) {
+  if (!options_.reduced) return;
+  for (const Eigen::VectorXd& d : directions) {
+    if (d.size() != current_.shapes.front().size() || !d.allFinite())
+      throw InvalidInputError("flow: added subspace direction has the wrong size or is not finite");
+    extraDirections_.push_back(d);
+  }
+  setCurrent(current_.shapes);
+}
+
 bool SmoothingFlow::isFree(int i) const {
   return options_.closed || (i > 0 && i + 1 < int(current_.shapes.size()));
 }
@@ -109,7 +126,7 @@ double SmoothingFlow::pathEnergy(const std::vector<Eigen::VectorXd>& shapes) con
   const int count = int(shapes.size());
   const int segments = options_.closed ? count : count - 1;
   double sum = 0.0;
-#pragma omp parallel for reduction(+ : sum)
+#pragma omp parallel for reduction(+ : sum) if (parallelWorthIt(shapes))
   for (int k = 0; k < segments; ++k) {  // eq. 4
     const Eigen::VectorXd& a = shapes[size_t(k)];
     const Eigen::VectorXd& b = shapes[size_t(wrap(k + 1, count))];
@@ -121,7 +138,7 @@ double SmoothingFlow::pathEnergy(const std::vector<Eigen::VectorXd>& shapes) con
 std::vector<Eigen::VectorXd> SmoothingFlow::pathGradient() const {
   const int count = int(current_.shapes.size());
   std::vector<Eigen::VectorXd> gradients(current_.shapes.size());
-#pragma omp parallel for
+#pragma omp parallel for if (parallelWorthIt(current_.shapes))
   for (int i = 0; i < count; ++i) {
     if (!isFree(i)) {
       gradients[size_t(i)] = Eigen::VectorXd::Zero(current_.shapes[size_t(i)].size());
@@ -143,6 +160,26 @@ double SmoothingFlow::reducedPathGradientSquaredNorm() const {
   return sum;
 }
 
+double SmoothingFlow::reducedResidualSquaredNorm() const {
+  return reducedResidualSquaredNorm(current_.shapes);
+}
+
+double SmoothingFlow::reducedResidualSquaredNorm(const std::vector<Eigen::VectorXd>& shapes) const {
+  const int count = int(shapes.size());
+  double sum = 0.0;
+#pragma omp parallel for reduction(+ : sum) if (parallelWorthIt(shapes))
+  for (int i = 0; i < count; ++i) {
+    if (!isFree(i)) continue;
+    const Eigen::VectorXd& x = shapes[size_t(i)];
+    const Eigen::VectorXd& prev = shapes[size_t(wrap(i - 1, count))];
+    const Eigen::VectorXd& next = shapes[size_t(wrap(i + 1, count))];
+    Eigen::VectorXd r = energy_.gradientDeformed(prev, x) + energy_.gradientDeformed(next, x);
+    if (options_.symmetricAverage) r += energy_.gradientReference(x, prev) + energy_.gradientReference(x, next);
+    sum += options_.reduced ? (spaces_[size_t(i)].basis->transpose() * r).squaredNorm() : r.squaredNorm();
+  }
+  return sum;
+}
+
 Eigen::Index SmoothingFlow::degreesOfFreedom() const {
   Eigen::Index dof = 0;
   for (size_t i = 0; i < current_.shapes.size(); ++i)
@@ -155,7 +192,7 @@ std::vector<Eigen::VectorXd> SmoothingFlow::trialStep(double tau) const {
   const std::vector<Eigen::VectorXd>& x = current_.shapes;
   std::vector<Eigen::VectorXd> next = x;
   std::exception_ptr error;
-#pragma omp parallel for schedule(dynamic)
+#pragma omp parallel for schedule(dynamic) if (parallelWorthIt(x))
   for (int i = 0; i < count; ++i) {
     if (!isFree(i) || error) continue;
     try {
@@ -202,12 +239,18 @@ std::vector<Eigen::VectorXd> SmoothingFlow::trialStep(double tau) const {
 FlowStep SmoothingFlow::step() {
   FlowStep report;
   const double before = pathEnergy();
+  // eq. 10 averaging is not the gradient flow of eq. 4 (only eq. 1 is, Lemma 2), so near its own fixed
+  // points eq. 4 may not decrease: there a step is also accepted if it reduces the flow's residual.
+  const double residualBefore = options_.symmetricAverage ? 0.0 : reducedResidualSquaredNorm();
   double tau = options_.tau;
   for (int halving = 0; halving <= options_.maxTauHalvings; ++halving, tau *= 0.5) {
     std::vector<Eigen::VectorXd> next = trialStep(tau);
     const double after = pathEnergy(next);
     // With a restoring force the flow trades path energy against fidelity, so only rho = 0 is controlled.
-    if (std::isfinite(after) && (after < before || options_.rho > 0.0)) {
+    bool accept = std::isfinite(after) && (after < before || options_.rho > 0.0);
+    if (!accept && std::isfinite(after) && !options_.symmetricAverage)
+      accept = reducedResidualSquaredNorm(next) < residualBefore;
+    if (accept) {
       current_.shapes = std::move(next);
       report.pathEnergy = after;
       report.tau = tau;

@@ -25,6 +25,9 @@ struct AverageResult {
   Eigen::VectorXd shape;
   double objective = 0.0;
   int iterations = 0;
+  /// Newton stopped because three steps in a row lowered the objective by less than 1e-13 relative (a
+  /// minimiser to double precision, though the gradient test was not met).
+  bool stalledAtRoundOff = false;
 };
 
 /// Weighted elastic average of `examples` (flat 3V vectors), Newton started at `initial`.

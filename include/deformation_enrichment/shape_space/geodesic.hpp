@@ -16,11 +16,16 @@ struct GeodesicOptions {
   int shapes = 8;              ///< shapes on the final path, ends included (>= 3)
   int insertPerSegment = 2;    ///< paper: two or three
   FlowOptions flow;            ///< tau, reduced/full, subspace size, symmetric averaging (closed is ignored)
-  /// Stop a level when |reduced gradient of eq. 4|^2 <= absoluteFactor * dof (the paper's rule with 1e-8)
+  /// Stop a level when |reduced residual|^2 (SmoothingFlow::reducedResidualSquaredNorm: the gradient of
+  /// eq. 4 with symmetric averaging) <= absoluteFactor * dof (the paper's rule with 1e-8)
   /// or <= relativeFactor * (its value at the start of the level).
   double absoluteFactor = 1e-8;
   double relativeFactor = 1e-10;
   int maxIterationsPerLevel = 1000;
+  /// Reduced mode: after a level meets the rule in its subspace, the full-space residual is checked; if it
+  /// fails the rule, the flow tangents (eq. 9) of the current curve are added to the subspace and the flow
+  /// continues, at most this many times per level (paper 004 uses a Krylov enrichment of [vTSSH15] here).
+  int enrichmentRounds = 4;
   bool requireConvergence = true;  ///< throw NumericalError instead of returning an unconverged path
 };
 
@@ -31,7 +36,8 @@ struct GeodesicResult {
   std::vector<double> pathEnergyHistory;  ///< after every flow step, all levels
   int iterations = 0;
   bool converged = false;
-  double finalGradientSquaredNorm = 0.0;
+  double finalGradientSquaredNorm = 0.0;      ///< the stopping rule's residual (reduced in reduced mode)
+  double finalFullResidualSquaredNorm = 0.0;  ///< the same residual unprojected
 };
 
 /// Geodesic from a to b over the shared topology `triangles`. Throws InvalidInputError for bad input

@@ -57,8 +57,16 @@ public:
   std::vector<Eigen::VectorXd> pathGradient() const;
   /// Squared norm of the path gradient projected on each free shape's subspace (full mode: plain norm).
   double reducedPathGradientSquaredNorm() const;
+  /// Squared norm of the flow's own fixed-point residual, projected like reducedPathGradientSquaredNorm:
+  /// eq. 3 for the symmetric average (eq. 1); d2 E(x_{i-1}, x_i) + d2 E(x_{i+1}, x_i) for eq. 10, whose
+  /// fixed points are the eq. 10-geodesics of paper 004 Table 2 (they differ slightly from eq. 3's).
+  double reducedResidualSquaredNorm() const;
+  double reducedResidualSquaredNorm(const std::vector<Eigen::VectorXd>& shapes) const;
   /// Free degrees of freedom (full: 3V per free shape; reduced: subspace dimensions).
   Eigen::Index degreesOfFreedom() const;
+  /// Reduced mode: adds directions (e.g. flow tangents at the current curve) to the shared basis of every
+  /// shape and rebuilds the subspaces; they are kept across setCurrent. No effect in full mode.
+  void addDirections(const std::vector<Eigen::VectorXd>& directions);
   /// Replaces the current shapes (e.g. after temporal refinement); re-validates, keeps the options.
   void setCurrent(std::vector<Eigen::VectorXd> shapes);
 
@@ -72,6 +80,7 @@ private:
   FlowOptions options_;
   std::vector<char> restored_;
   std::vector<ReducedSpace> spaces_;  ///< per shape (reduced mode)
+  std::vector<Eigen::VectorXd> extraDirections_;
 };
 
 /// Flow tangent of eq. 9 for every free shape: (d1d1 E(x,x) + d2d2 E(x,x)) v = 1/2 (eq. 3 LHS); zero
