@@ -95,7 +95,7 @@ void SmoothingFlow::setCurrent(std::vector<Eigen::VectorXd> shapes) {
   auto basis = std::make_shared<const Eigen::MatrixXd>(std::move(pca.basis));
   spaces_.resize(current_.shapes.size());
   std::exception_ptr error;
-#pragma omp parallel for schedule(dynamic) if (parallelWorthIt(current_.shapes))
+#pragma omp parallel for schedule(dynamic) if (options_.parallelShapes && parallelWorthIt(current_.shapes))
   for (int i = 0; i < int(current_.shapes.size()); ++i) {
     if (!isFree(i)) continue;
     try {
@@ -126,7 +126,7 @@ double SmoothingFlow::pathEnergy(const std::vector<Eigen::VectorXd>& shapes) con
   const int count = int(shapes.size());
   const int segments = options_.closed ? count : count - 1;
   double sum = 0.0;
-#pragma omp parallel for reduction(+ : sum) if (parallelWorthIt(shapes))
+#pragma omp parallel for reduction(+ : sum) if (options_.parallelShapes && parallelWorthIt(shapes))
   for (int k = 0; k < segments; ++k) {  // eq. 4
     const Eigen::VectorXd& a = shapes[size_t(k)];
     const Eigen::VectorXd& b = shapes[size_t(wrap(k + 1, count))];
@@ -138,7 +138,7 @@ double SmoothingFlow::pathEnergy(const std::vector<Eigen::VectorXd>& shapes) con
 std::vector<Eigen::VectorXd> SmoothingFlow::pathGradient() const {
   const int count = int(current_.shapes.size());
   std::vector<Eigen::VectorXd> gradients(current_.shapes.size());
-#pragma omp parallel for if (parallelWorthIt(current_.shapes))
+#pragma omp parallel for if (options_.parallelShapes && parallelWorthIt(current_.shapes))
   for (int i = 0; i < count; ++i) {
     if (!isFree(i)) {
       gradients[size_t(i)] = Eigen::VectorXd::Zero(current_.shapes[size_t(i)].size());
@@ -167,7 +167,7 @@ double SmoothingFlow::reducedResidualSquaredNorm() const {
 double SmoothingFlow::reducedResidualSquaredNorm(const std::vector<Eigen::VectorXd>& shapes) const {
   const int count = int(shapes.size());
   double sum = 0.0;
-#pragma omp parallel for reduction(+ : sum) if (parallelWorthIt(shapes))
+#pragma omp parallel for reduction(+ : sum) if (options_.parallelShapes && parallelWorthIt(shapes))
   for (int i = 0; i < count; ++i) {
     if (!isFree(i)) continue;
     const Eigen::VectorXd& x = shapes[size_t(i)];
@@ -192,7 +192,7 @@ std::vector<Eigen::VectorXd> SmoothingFlow::trialStep(double tau) const {
   const std::vector<Eigen::VectorXd>& x = current_.shapes;
   std::vector<Eigen::VectorXd> next = x;
   std::exception_ptr error;
-#pragma omp parallel for schedule(dynamic) if (parallelWorthIt(x))
+#pragma omp parallel for schedule(dynamic) if (options_.parallelShapes && parallelWorthIt(x))
   for (int i = 0; i < count; ++i) {
     if (!isFree(i) || error) continue;
     try {

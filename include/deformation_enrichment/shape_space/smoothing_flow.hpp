@@ -3,7 +3,7 @@
 //   x_i <- A((1-rho) w_-, x_{i-1}, (1-rho)(1-tau), x_i, (1-rho) w_+, x_{i+1}, rho, input_i)   (eq. 2 + restoring)
 // with w_- = w_+ = tau/2 (fixed) or the proportion-preserving weights; open curves keep x_0 and x_m fixed,
 // closed curves wrap around. Every shape is updated from the previous iterate (Jacobi, as eq. 2 is
-// written), in parallel. Step control: tau is halved until the path energy (eq. 4) decreases.
+// written), optionally in parallel. Step control: tau is halved until the path energy (eq. 4) decreases.
 #include <vector>
 
 #include <Eigen/Core>
@@ -28,6 +28,10 @@ struct FlowOptions {
   bool reduced = false;              ///< reduced (subspace + L-BFGS) instead of full-space Newton
   int subspaceDimension = 16;        ///< PCA directions of the sequence (reduced mode)
   int flowDirectionShapes = 20;      ///< below this many shapes, flow tangents enrich the subspace (paper: 20)
+  /// Solve the shapes' averages in parallel (OpenMP over shapes). Only for an energy that is safe to call
+  /// from several threads at once and does not open its own OpenMP team (DiscreteShells: setThreadCount(1);
+  /// its multi-threaded evaluation crashes inside an outer parallel region). Off: the energy parallelises.
+  bool parallelShapes = false;
   AverageOptions full;
   ReducedAverageOptions reducedSolver;
 };
