@@ -2,19 +2,20 @@
 
 set(DE_CATKIN_COMPONENTS
   roscpp message_generation std_msgs geometry_msgs sensor_msgs visualization_msgs shape_msgs pcl_msgs
-  diagnostic_msgs diagnostic_updater tf2 tf2_ros tf2_eigen tf2_geometry_msgs pcl_conversions urdf nodelet)
+  diagnostic_msgs diagnostic_updater tf2 tf2_ros tf2_eigen tf2_geometry_msgs pcl_conversions urdf nodelet pluginlib)
 find_package(catkin REQUIRED COMPONENTS ${DE_CATKIN_COMPONENTS})
 
 add_message_files(DIRECTORY msg FILES ToolContact.msg ToolContactArray.msg EnrichmentStatus.msg)
-add_service_files(DIRECTORY srv FILES LoadExampleSet.srv SegmentSites.srv)
-generate_messages(DEPENDENCIES std_msgs geometry_msgs sensor_msgs)
+add_service_files(DIRECTORY srv FILES LoadExampleSet.srv SegmentSites.srv SmoothSequence.srv ComputeGeodesic.srv
+  BezierCurve.srv)
+generate_messages(DEPENDENCIES std_msgs geometry_msgs sensor_msgs pcl_msgs)
 
 catkin_package(
   INCLUDE_DIRS include
   LIBRARIES deformation_enrichment_core deformation_enrichment_ros
   CATKIN_DEPENDS roscpp message_runtime std_msgs geometry_msgs sensor_msgs visualization_msgs shape_msgs
                  pcl_msgs diagnostic_msgs diagnostic_updater tf2 tf2_ros tf2_eigen tf2_geometry_msgs
-                 pcl_conversions urdf nodelet)
+                 pcl_conversions urdf nodelet pluginlib)
 
 set(DE_BUILD_TESTS ${CATKIN_ENABLE_TESTING})
 include(cmake/core.cmake)

@@ -28,4 +28,14 @@ void DeformationEnergy::checkShapes(const Eigen::VectorXd& reference, const Eige
   checkShape(deformed, numVertices(), "deformed");
 }
 
+void DeformationEnergy::evaluate(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed,
+                                 const EnergyOutputs& outputs) const {
+  if (outputs.value) *outputs.value = value(reference, deformed);
+  if (outputs.gradientDeformed) *outputs.gradientDeformed = gradientDeformed(reference, deformed);
+  if (outputs.gradientReference) *outputs.gradientReference = gradientReference(reference, deformed);
+  if (outputs.hessianDeformed) *outputs.hessianDeformed = hessianDeformed(reference, deformed);
+  if (outputs.hessianMixed) *outputs.hessianMixed = hessianMixed(reference, deformed);
+  if (outputs.hessianReference) *outputs.hessianReference = hessianReference(reference, deformed);
+}
+
 }  // namespace deformation_enrichment::shape_space

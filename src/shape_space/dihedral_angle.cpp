@@ -46,6 +46,7 @@ HingeAngle dihedralAngleDerivatives(const Eigen::Vector3d& xi, const Eigen::Vect
   result.theta = dihedralAngle(xi, xj, xk, xl);
   if (!withHessian) {
     result.gradient = hingeGradient<double>(xi, xj, xk, xl);
+    result.hessian.setZero();
     return result;
   }
   // Forward-mode differentiation of the closed-form gradient gives the Hessian (one pass, 12 directions).

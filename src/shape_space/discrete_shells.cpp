@@ -20,9 +20,9 @@ namespace deformation_enrichment::shape_space {
 
 namespace {
 
+using detail::HessianPattern;
 using detail::LocalEdge;
 using detail::LocalTerm;
-using Triplets = std::vector<Eigen::Triplet<double>>;
 
 constexpr double kDegenerateAreaRatio = 1e-8;
 
@@ -34,37 +34,49 @@ static_assert(unsigned{DiscreteShells::kValue} == unsigned{detail::kValue} &&
                   unsigned{DiscreteShells::kHessianReference} == unsigned{detail::kHessianReference},
               "public output flags and internal need flags must agree");
 
-// Per-thread accumulators, merged after the parallel loops.
+// Per-thread accumulators, merged after the parallel loops. Hessian values are written straight into the
+// compressed storage of the fixed sparsity pattern (thread 0 into the result, the others into buffers).
 struct Accumulator {
+  bool active = false;  // the runtime may start fewer threads than asked (nested regions, dynamic teams)
   double value = 0.0;
   Eigen::VectorXd gradientDeformed, gradientReference;
-  Triplets hessianDeformed, hessianMixed, hessianReference;
+  Eigen::VectorXd ownDeformed, ownMixed, ownReference;  // buffers of threads > 0
+  double* hessianDeformed = nullptr;
+  double* hessianMixed = nullptr;
+  double* hessianReference = nullptr;
 };
 
+// Adds a local 3NV x 3NV block matrix into the pattern's value array. Column 3 vb + d of the pattern holds
+// the rows 3 va + r of every neighbour va of vb (sorted), so the entry sits at
+// outer[3 vb + d] + 3 rank(va among vb's neighbours) + r.
 template <int NV>
-void scatterHessian(const Eigen::Matrix<double, 3 * NV, 3 * NV>& local, const std::array<int, NV>& rows,
-                    const std::array<int, NV>& cols, Triplets& out) {
-  for (int a = 0; a < NV; ++a) {
-    for (int b = 0; b < NV; ++b) {
-      for (int r = 0; r < 3; ++r) {
-        for (int c = 0; c < 3; ++c) {
-          out.emplace_back(3 * rows[a] + r, 3 * cols[b] + c, local(3 * a + r, 3 * b + c));
-        }
+void scatterHessian(const Eigen::Matrix<double, 3 * NV, 3 * NV>& local, const std::array<int, NV>& vertices,
+                    const HessianPattern& pattern, double* values) {
+  for (int b = 0; b < NV; ++b) {
+    const int vb = vertices[b];
+    const int* neighboursBegin = pattern.neighbours.data() + pattern.neighbourStart[vb];
+    const int* neighboursEnd = pattern.neighbours.data() + pattern.neighbourStart[vb + 1];
+    for (int a = 0; a < NV; ++a) {
+      const int rank = static_cast<int>(std::lower_bound(neighboursBegin, neighboursEnd, vertices[a]) - neighboursBegin);
+      for (int d = 0; d < 3; ++d) {
+        double* column = values + pattern.outer[3 * vb + d] + 3 * rank;
+        for (int r = 0; r < 3; ++r) column[r] += local(3 * a + r, 3 * b + d);
       }
     }
   }
 }
 
 template <int NV>
-void scatter(const LocalTerm<NV>& term, const std::array<int, NV>& vertices, unsigned need, Accumulator& acc) {
+void scatter(const LocalTerm<NV>& term, const std::array<int, NV>& vertices, unsigned need,
+             const HessianPattern& pattern, Accumulator& acc) {
   acc.value += term.value;
   for (int a = 0; a < NV; ++a) {
     if (need & detail::kGradientDeformed) acc.gradientDeformed.segment<3>(3 * vertices[a]) += term.gradientDeformed.template segment<3>(3 * a);
     if (need & detail::kGradientReference) acc.gradientReference.segment<3>(3 * vertices[a]) += term.gradientReference.template segment<3>(3 * a);
   }
-  if (need & detail::kHessianDeformed) scatterHessian<NV>(term.hessianDeformed, vertices, vertices, acc.hessianDeformed);
-  if (need & detail::kHessianMixed) scatterHessian<NV>(term.hessianMixed, vertices, vertices, acc.hessianMixed);
-  if (need & detail::kHessianReference) scatterHessian<NV>(term.hessianReference, vertices, vertices, acc.hessianReference);
+  if (need & detail::kHessianDeformed) scatterHessian<NV>(term.hessianDeformed, vertices, pattern, acc.hessianDeformed);
+  if (need & detail::kHessianMixed) scatterHessian<NV>(term.hessianMixed, vertices, pattern, acc.hessianMixed);
+  if (need & detail::kHessianReference) scatterHessian<NV>(term.hessianReference, vertices, pattern, acc.hessianReference);
 }
 
 template <int NV>
@@ -80,23 +92,31 @@ void addHingeTerm(const std::array<Eigen::Vector3d, 4>& x, const std::array<Eige
                   double weight, unsigned need, LocalTerm<4>& out) {
   const bool needDeformedAngle = (need & (detail::kGradientDeformed | detail::kHessianDeformed | detail::kHessianMixed)) != 0u;
   const bool needReferenceDerivatives = (need & (detail::kGradientReference | detail::kHessianMixed | detail::kHessianReference)) != 0u;
-  const HingeAngle theta = needDeformedAngle
-                               ? dihedralAngleDerivatives(x[0], x[1], x[2], x[3], (need & detail::kHessianDeformed) != 0u)
-                               : HingeAngle{dihedralAngle(x[0], x[1], x[2], x[3])};
-  const HingeAngle thetaBar = needReferenceDerivatives
-                                  ? dihedralAngleDerivatives(xBar[0], xBar[1], xBar[2], xBar[3], (need & detail::kHessianReference) != 0u)
-                                  : HingeAngle{dihedralAngle(xBar[0], xBar[1], xBar[2], xBar[3])};
+  // Angle derivatives only when needed (a HingeAngle carries a 12 x 12 Hessian).
+  HingeAngle theta, thetaBar;
+  if (needDeformedAngle) {
+    theta = dihedralAngleDerivatives(x[0], x[1], x[2], x[3], (need & detail::kHessianDeformed) != 0u);
+  } else {
+    theta.theta = dihedralAngle(x[0], x[1], x[2], x[3]);
+  }
+  if (needReferenceDerivatives) {
+    thetaBar = dihedralAngleDerivatives(xBar[0], xBar[1], xBar[2], xBar[3], (need & detail::kHessianReference) != 0u);
+  } else {
+    thetaBar.theta = dihedralAngle(xBar[0], xBar[1], xBar[2], xBar[3]);
+  }
   // w_bar and its derivatives: a function of five reference squared lengths (no deformed ones).
   static constexpr std::array<LocalEdge, 0> kNoEdges{};
   static constexpr std::array<LocalEdge, 5> kHingeEdges{{{0, 1}, {1, 2}, {2, 0}, {0, 3}, {3, 1}}};
-  LocalTerm<4> w;
   const unsigned weightNeed = needReferenceDerivatives
                                   ? (detail::kValue | detail::kGradientReference |
                                      ((need & detail::kHessianReference) ? detail::kHessianReference : 0u))
                                   : detail::kValue;
+  LocalTerm<4> w(weightNeed);
   detail::addSquaredLengthTerm<4, 0, 5>([c](const auto& q) { return detail::hingeWeight(q, c); }, x, xBar, kNoEdges,
                                         kHingeEdges, weightNeed, 1.0, w);
-  const double d = theta.theta - thetaBar.theta;
+  // The angle difference is taken modulo 2 pi into [-pi, pi]: a hinge folding through +-pi changes by a
+  // little, not by 2 pi (the derivatives are unaffected; the shift is locally constant).
+  const double d = std::remainder(theta.theta - thetaBar.theta, 2.0 * M_PI);
   const double wBar = w.value;
   out.value += weight * d * d * wBar;
   if (need & detail::kGradientDeformed) out.gradientDeformed += weight * 2.0 * d * wBar * theta.gradient;
@@ -197,13 +217,54 @@ DiscreteShells::DiscreteShells(const Eigen::Matrix3Xi& triangles, Eigen::Index n
       for (int b = 0; b < 3; ++b) {
         if (triangles(b, t2) != u && triangles(b, t2) != v) l = triangles(b, t2);
       }
-      if (l != k) hinges_.emplace_back(i, j, k, l);  // two triangles on the same three vertices: no hinge
+      if (l != k) {
+        hinges_.emplace_back(i, j, k, l);
+      } else {
+        ++numNonManifoldEdges_;  // a duplicated triangle: no hinge to bend
+      }
     }
     begin = end;
   }
+  buildHessianPattern();
 #ifdef _OPENMP
   threads_ = omp_get_max_threads();
 #endif
+}
+
+void DiscreteShells::buildHessianPattern() {
+  std::vector<std::vector<int>> sets(static_cast<std::size_t>(numVertices_));
+  for (Eigen::Index v = 0; v < numVertices_; ++v) sets[v].push_back(static_cast<int>(v));
+  for (Eigen::Index t = 0; t < triangles_.cols(); ++t) {
+    for (int a = 0; a < 3; ++a) {
+      for (int b = 0; b < 3; ++b) sets[triangles_(a, t)].push_back(triangles_(b, t));
+    }
+  }
+  for (const Eigen::Vector4i& hinge : hinges_) {  // the two opposite corners couple through the angle
+    sets[hinge[2]].push_back(hinge[3]);
+    sets[hinge[3]].push_back(hinge[2]);
+  }
+  pattern_.neighbourStart.assign(1, 0);
+  pattern_.neighbours.clear();
+  for (auto& set : sets) {
+    std::sort(set.begin(), set.end());
+    set.erase(std::unique(set.begin(), set.end()), set.end());
+    pattern_.neighbours.insert(pattern_.neighbours.end(), set.begin(), set.end());
+    pattern_.neighbourStart.push_back(static_cast<int>(pattern_.neighbours.size()));
+  }
+  const Eigen::Index dofs = 3 * numVertices_;
+  Eigen::VectorXi columnSizes(dofs);
+  for (Eigen::Index v = 0; v < numVertices_; ++v) columnSizes.segment<3>(3 * v).setConstant(3 * static_cast<int>(sets[v].size()));
+  pattern_.zeros.resize(dofs, dofs);
+  pattern_.zeros.reserve(columnSizes);
+  for (Eigen::Index v = 0; v < numVertices_; ++v) {
+    for (int d = 0; d < 3; ++d) {
+      for (const int u : sets[v]) {
+        for (int r = 0; r < 3; ++r) pattern_.zeros.insert(3 * u + r, 3 * v + d) = 0.0;
+      }
+    }
+  }
+  pattern_.zeros.makeCompressed();
+  pattern_.outer.assign(pattern_.zeros.outerIndexPtr(), pattern_.zeros.outerIndexPtr() + dofs + 1);
 }
 
 void DiscreteShells::setThreadCount(int threads) {
@@ -240,6 +301,12 @@ ShellEvaluation DiscreteShells::assemble(const Eigen::VectorXd& reference, const
   static constexpr std::array<LocalEdge, 3> kTriangleEdges{{{1, 2}, {2, 0}, {0, 1}}};  // edge m opposite corner m
   static constexpr std::array<LocalEdge, 1> kEdge{{{0, 1}}};
 
+  ShellEvaluation result;
+  Eigen::SparseMatrix<double>* const blocks[3] = {&result.hessianDeformed, &result.hessianMixed, &result.hessianReference};
+  const unsigned blockNeeds[3] = {detail::kHessianDeformed, detail::kHessianMixed, detail::kHessianReference};
+  for (int b = 0; b < 3; ++b) {
+    if (need & blockNeeds[b]) *blocks[b] = pattern_.zeros;
+  }
   std::vector<Accumulator> accumulators(static_cast<std::size_t>(threads_));
   const Eigen::Index numFaces = (parts & kMembrane) ? triangles_.cols() : 0;
   const Eigen::Index numEdgeTerms = ((parts & kMembrane) && !hyperelastic) ? numEdges() : 0;
@@ -248,18 +315,31 @@ ShellEvaluation DiscreteShells::assemble(const Eigen::VectorXd& reference, const
 #pragma omp parallel num_threads(threads_)
   {
 #ifdef _OPENMP
-    Accumulator& acc = accumulators[static_cast<std::size_t>(omp_get_thread_num())];
+    const int thread = omp_get_thread_num();
 #else
-    Accumulator& acc = accumulators[0];
+    const int thread = 0;
 #endif
+    Accumulator& acc = accumulators[static_cast<std::size_t>(thread)];
+    acc.active = true;
     if (need & detail::kGradientDeformed) acc.gradientDeformed = Eigen::VectorXd::Zero(dofs);
     if (need & detail::kGradientReference) acc.gradientReference = Eigen::VectorXd::Zero(dofs);
+    Eigen::VectorXd* const own[3] = {&acc.ownDeformed, &acc.ownMixed, &acc.ownReference};
+    double** const target[3] = {&acc.hessianDeformed, &acc.hessianMixed, &acc.hessianReference};
+    for (int b = 0; b < 3; ++b) {
+      if (!(need & blockNeeds[b])) continue;
+      if (thread == 0) {
+        *target[b] = blocks[b]->valuePtr();
+      } else {
+        *own[b] = Eigen::VectorXd::Zero(blocks[b]->nonZeros());
+        *target[b] = own[b]->data();
+      }
+    }
 #pragma omp for schedule(static) nowait
     for (Eigen::Index t = 0; t < numFaces; ++t) {
       const std::array<int, 3> v{triangles_(0, t), triangles_(1, t), triangles_(2, t)};
       const auto x = gather<3>(deformed, v);
       const auto xBar = gather<3>(reference, v);
-      LocalTerm<3> term;
+      LocalTerm<3> term(need);
       if (hyperelastic) {  // Heeren et al. 2012 eq. 8
         detail::addSquaredLengthTerm<3, 3, 3>([&p](const auto& q) { return detail::hyperelasticMembrane(q, p.mu, p.lambda); },
                                               x, xBar, kTriangleEdges, kTriangleEdges, need, 1.0, term);
@@ -267,50 +347,64 @@ ShellEvaluation DiscreteShells::assemble(const Eigen::VectorXd& reference, const
         detail::addSquaredLengthTerm<3, 3, 3>([&p](const auto& q) { return detail::discreteShellsArea(q, p.areaWeight); },
                                               x, xBar, kTriangleEdges, kTriangleEdges, need, 1.0, term);
       }
-      scatter<3>(term, v, need, acc);
+      scatter<3>(term, v, need, pattern_, acc);
     }
 #pragma omp for schedule(static) nowait
     for (Eigen::Index e = 0; e < numEdgeTerms; ++e) {  // Grinspun et al. 2003 edge-length term
       const std::array<int, 2> v{edges_[e][0], edges_[e][1]};
-      LocalTerm<2> term;
+      LocalTerm<2> term(need);
       detail::addSquaredLengthTerm<2, 1, 1>([&p](const auto& q) { return detail::discreteShellsEdge(q, p.lengthWeight); },
                                             gather<2>(deformed, v), gather<2>(reference, v), kEdge, kEdge, need, 1.0, term);
-      scatter<2>(term, v, need, acc);
+      scatter<2>(term, v, need, pattern_, acc);
     }
 #pragma omp for schedule(static) nowait
     for (Eigen::Index h = 0; h < numHingeTerms; ++h) {  // bending, weighted as in the header
       const std::array<int, 4> v{hinges_[h][0], hinges_[h][1], hinges_[h][2], hinges_[h][3]};
-      LocalTerm<4> term;
+      LocalTerm<4> term(need);
       addHingeTerm(gather<4>(deformed, v), gather<4>(reference, v), hingeFactor, p.bendingWeight, need, term);
-      scatter<4>(term, v, need, acc);
+      scatter<4>(term, v, need, pattern_, acc);
     }
   }
 
-  ShellEvaluation result;
   if (need & detail::kGradientDeformed) result.gradientDeformed = Eigen::VectorXd::Zero(dofs);
   if (need & detail::kGradientReference) result.gradientReference = Eigen::VectorXd::Zero(dofs);
-  Triplets hessianDeformed, hessianMixed, hessianReference;
-  for (Accumulator& acc : accumulators) {
+  for (std::size_t t = 0; t < accumulators.size(); ++t) {
+    const Accumulator& acc = accumulators[t];
+    if (!acc.active) continue;
     result.value += acc.value;
     if (need & detail::kGradientDeformed) result.gradientDeformed += acc.gradientDeformed;
     if (need & detail::kGradientReference) result.gradientReference += acc.gradientReference;
-    hessianDeformed.insert(hessianDeformed.end(), acc.hessianDeformed.begin(), acc.hessianDeformed.end());
-    hessianMixed.insert(hessianMixed.end(), acc.hessianMixed.begin(), acc.hessianMixed.end());
-    hessianReference.insert(hessianReference.end(), acc.hessianReference.begin(), acc.hessianReference.end());
+    if (t == 0) continue;
+    const Eigen::VectorXd* const own[3] = {&acc.ownDeformed, &acc.ownMixed, &acc.ownReference};
+    for (int b = 0; b < 3; ++b) {
+      if (need & blockNeeds[b]) {
+        Eigen::Map<Eigen::VectorXd>(blocks[b]->valuePtr(), blocks[b]->nonZeros()) += *own[b];
+      }
+    }
   }
-  auto build = [dofs](const Triplets& triplets, Eigen::SparseMatrix<double>& m) {
-    m.resize(dofs, dofs);
-    m.setFromTriplets(triplets.begin(), triplets.end());
-  };
-  if (need & detail::kHessianDeformed) build(hessianDeformed, result.hessianDeformed);
-  if (need & detail::kHessianMixed) build(hessianMixed, result.hessianMixed);
-  if (need & detail::kHessianReference) build(hessianReference, result.hessianReference);
   return result;
 }
 
 ShellEvaluation DiscreteShells::evaluate(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed,
                                          unsigned outputs) const {
   return assemble(reference, deformed, outputs, kMembrane | kBending);
+}
+
+void DiscreteShells::evaluate(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed,
+                              const EnergyOutputs& outputs) const {
+  const unsigned requested = (outputs.value ? kValue : 0u) | (outputs.gradientDeformed ? kGradientDeformed : 0u) |
+                             (outputs.gradientReference ? kGradientReference : 0u) |
+                             (outputs.hessianDeformed ? kHessianDeformed : 0u) |
+                             (outputs.hessianMixed ? kHessianMixed : 0u) |
+                             (outputs.hessianReference ? kHessianReference : 0u);
+  if (requested == 0u) return;
+  ShellEvaluation r = assemble(reference, deformed, requested, kMembrane | kBending);
+  if (outputs.value) *outputs.value = r.value;
+  if (outputs.gradientDeformed) *outputs.gradientDeformed = std::move(r.gradientDeformed);
+  if (outputs.gradientReference) *outputs.gradientReference = std::move(r.gradientReference);
+  if (outputs.hessianDeformed) *outputs.hessianDeformed = std::move(r.hessianDeformed);
+  if (outputs.hessianMixed) *outputs.hessianMixed = std::move(r.hessianMixed);
+  if (outputs.hessianReference) *outputs.hessianReference = std::move(r.hessianReference);
 }
 
 double DiscreteShells::value(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const {

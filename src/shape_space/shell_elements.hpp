@@ -26,15 +26,22 @@ enum Need : unsigned {
 constexpr unsigned kAnyHessian = kHessianDeformed | kHessianMixed | kHessianReference;
 
 /// Value and derivatives of one local term over NV vertices; rows of hessianMixed index the reference.
+/// Only the parts named in reset(need) are initialised (zeroing unused 12 x 12 blocks costs more than
+/// some terms themselves).
 template <int NV>
 struct LocalTerm {
   static constexpr int D = 3 * NV;
   double value = 0.0;
-  Eigen::Matrix<double, D, 1> gradientDeformed = Eigen::Matrix<double, D, 1>::Zero();
-  Eigen::Matrix<double, D, 1> gradientReference = Eigen::Matrix<double, D, 1>::Zero();
-  Eigen::Matrix<double, D, D> hessianDeformed = Eigen::Matrix<double, D, D>::Zero();
-  Eigen::Matrix<double, D, D> hessianMixed = Eigen::Matrix<double, D, D>::Zero();
-  Eigen::Matrix<double, D, D> hessianReference = Eigen::Matrix<double, D, D>::Zero();
+  Eigen::Matrix<double, D, 1> gradientDeformed, gradientReference;
+  Eigen::Matrix<double, D, D> hessianDeformed, hessianMixed, hessianReference;
+
+  explicit LocalTerm(unsigned need) {
+    if (need & kGradientDeformed) gradientDeformed.setZero();
+    if (need & kGradientReference) gradientReference.setZero();
+    if (need & kHessianDeformed) hessianDeformed.setZero();
+    if (need & kHessianMixed) hessianMixed.setZero();
+    if (need & kHessianReference) hessianReference.setZero();
+  }
 };
 
 using LocalEdge = std::array<int, 2>;
@@ -84,37 +91,22 @@ T discreteShellsArea(const std::array<T, 6>& q, double kA) {
 }
 
 /// Bending weight c |e_bar|^2 / (A_bar_1 + A_bar_2) of a hinge (i, j, k, l), q = |ij|^2, |jk|^2, |ki|^2, |il|^2, |lj|^2.
-/// c = 3 is Grinspun et al.'s |e_bar| / h_bar_e with h_bar_e a third of the summed heights; c = 1 is GOAST's.
+/// c = 3 is Grinspun et al.'s |e_bar| / h_bar_e with h_bar_e a third of the average height of the two triangles; c = 1 is GOAST's.
 template <class T>
 T hingeWeight(const std::array<T, 5>& q, double c) {
   return c * q[0] / (triangleArea(q[0], q[1], q[2]) + triangleArea(q[0], q[3], q[4]));
 }
 
-/// Evaluates f(q_deformed[ND], q_reference[NR]) and chains its derivatives to the NV local vertices,
-/// adding weight times the requested outputs to out.
-template <int NV, int ND, int NR, class F>
-void addSquaredLengthTerm(const F& f, const std::array<Eigen::Vector3d, NV>& deformed,
-                          const std::array<Eigen::Vector3d, NV>& reference, const std::array<LocalEdge, ND>& deformedEdges,
-                          const std::array<LocalEdge, NR>& referenceEdges, unsigned need, double weight, LocalTerm<NV>& out) {
+/// Chain rule from derivatives in the squared edge lengths (value, g, H) to the vertex positions.
+template <int NV, int ND, int NR>
+void chainToPositions(double value, const Eigen::Matrix<double, ND + NR, 1>& g,
+                      const Eigen::Matrix<double, ND + NR, ND + NR>& H,
+                      const std::array<Eigen::Vector3d, ND + NR>& edgeVectors,
+                      const std::array<LocalEdge, ND>& deformedEdges, const std::array<LocalEdge, NR>& referenceEdges,
+                      unsigned need, double weight, LocalTerm<NV>& out) {
   constexpr int N = ND + NR;
   constexpr int D = 3 * NV;
-  std::array<double, N> q;
-  std::array<Eigen::Vector3d, N> edgeVectors;
-  for (int m = 0; m < N; ++m) {
-    const bool isDeformed = m < ND;
-    const LocalEdge& edge = isDeformed ? deformedEdges[m] : referenceEdges[m - ND];
-    const auto& x = isDeformed ? deformed : reference;
-    edgeVectors[m] = x[edge[0]] - x[edge[1]];
-    q[m] = edgeVectors[m].squaredNorm();
-  }
-  if ((need & ~kValue) == 0u) {
-    out.value += weight * f(q);
-    return;
-  }
-  std::array<Jet2<N>, N> qJet;
-  for (int m = 0; m < N; ++m) qJet[m] = Jet2<N>::variable(q[m], m);
-  const Jet2<N> r = f(qJet);
-  out.value += weight * r.v;
+  out.value += weight * value;
   // Jacobian dq/dx of the deformed (rows 0..ND-1) and reference (rows ND..N-1) squared lengths.
   Eigen::Matrix<double, N, D> jacobian = Eigen::Matrix<double, N, D>::Zero();
   for (int m = 0; m < N; ++m) {
@@ -134,20 +126,79 @@ void addSquaredLengthTerm(const F& f, const std::array<Eigen::Vector3d, NV>& def
   };
   const auto jacobianDeformed = jacobian.template topRows<ND>();
   const auto jacobianReference = jacobian.template bottomRows<NR>();
-  if (need & kGradientDeformed) out.gradientDeformed += weight * jacobianDeformed.transpose() * r.g.template head<ND>();
-  if (need & kGradientReference) out.gradientReference += weight * jacobianReference.transpose() * r.g.template tail<NR>();
+  if (need & kGradientDeformed) out.gradientDeformed += weight * jacobianDeformed.transpose() * g.template head<ND>();
+  if (need & kGradientReference) out.gradientReference += weight * jacobianReference.transpose() * g.template tail<NR>();
   if (need & kHessianDeformed) {
-    out.hessianDeformed += weight * jacobianDeformed.transpose() * r.H.template topLeftCorner<ND, ND>() * jacobianDeformed;
-    for (int m = 0; m < ND; ++m) addLengthCurvature(out.hessianDeformed, deformedEdges[m], r.g[m]);
+    out.hessianDeformed += weight * jacobianDeformed.transpose() * H.template topLeftCorner<ND, ND>() * jacobianDeformed;
+    for (int m = 0; m < ND; ++m) addLengthCurvature(out.hessianDeformed, deformedEdges[m], g[m]);
   }
   if (need & kHessianMixed) {
-    out.hessianMixed += weight * jacobianReference.transpose() * r.H.template bottomLeftCorner<NR, ND>() * jacobianDeformed;
+    out.hessianMixed += weight * jacobianReference.transpose() * H.template bottomLeftCorner<NR, ND>() * jacobianDeformed;
   }
   if (need & kHessianReference) {
     out.hessianReference +=
-        weight * jacobianReference.transpose() * r.H.template bottomRightCorner<NR, NR>() * jacobianReference;
-    for (int m = 0; m < NR; ++m) addLengthCurvature(out.hessianReference, referenceEdges[m], r.g[ND + m]);
+        weight * jacobianReference.transpose() * H.template bottomRightCorner<NR, NR>() * jacobianReference;
+    for (int m = 0; m < NR; ++m) addLengthCurvature(out.hessianReference, referenceEdges[m], g[ND + m]);
   }
+}
+
+/// Jets over the K squared lengths q[first .. first + K) (the rest constant), then the chain rule.
+template <int K, bool kSecond, int first, int NV, int ND, int NR, class F>
+void differentiateIn(const F& f, const std::array<double, ND + NR>& q,
+                     const std::array<Eigen::Vector3d, ND + NR>& edgeVectors, const std::array<LocalEdge, ND>& deformedEdges,
+                     const std::array<LocalEdge, NR>& referenceEdges, unsigned need, double weight, LocalTerm<NV>& out) {
+  constexpr int N = ND + NR;
+  std::array<Jet2<K, kSecond>, N> qJet;
+  for (int m = 0; m < N; ++m) {
+    qJet[m] = (m >= first && m < first + K) ? Jet2<K, kSecond>::variable(q[m], m - first) : Jet2<K, kSecond>(q[m]);
+  }
+  const Jet2<K, kSecond> r = f(qJet);
+  Eigen::Matrix<double, N, 1> g = Eigen::Matrix<double, N, 1>::Zero();
+  Eigen::Matrix<double, N, N> H = Eigen::Matrix<double, N, N>::Zero();
+  g.template segment<K>(first) = r.g;
+  if constexpr (kSecond) H.template block<K, K>(first, first) = r.H;
+  chainToPositions<NV, ND, NR>(r.v, g, H, edgeVectors, deformedEdges, referenceEdges, need, weight, out);
+}
+
+/// Evaluates f(q_deformed[ND], q_reference[NR]) and chains its derivatives to the NV local vertices,
+/// adding weight times the requested outputs to out.
+template <int NV, int ND, int NR, class F>
+void addSquaredLengthTerm(const F& f, const std::array<Eigen::Vector3d, NV>& deformed,
+                          const std::array<Eigen::Vector3d, NV>& reference, const std::array<LocalEdge, ND>& deformedEdges,
+                          const std::array<LocalEdge, NR>& referenceEdges, unsigned need, double weight, LocalTerm<NV>& out) {
+  constexpr int N = ND + NR;
+  std::array<double, N> q;
+  std::array<Eigen::Vector3d, N> edgeVectors;
+  for (int m = 0; m < N; ++m) {
+    const bool isDeformed = m < ND;
+    const LocalEdge& edge = isDeformed ? deformedEdges[m] : referenceEdges[m - ND];
+    const auto& x = isDeformed ? deformed : reference;
+    edgeVectors[m] = x[edge[0]] - x[edge[1]];
+    q[m] = edgeVectors[m].squaredNorm();
+  }
+  if ((need & ~kValue) == 0u) {
+    out.value += weight * f(q);
+    return;
+  }
+  // Differentiate only in the squared lengths the requested outputs depend on (the others enter as
+  // constants), and to second order only when a Hessian block is requested.
+  constexpr unsigned kDeformedOnly = kValue | kGradientDeformed | kHessianDeformed;
+  constexpr unsigned kReferenceOnly = kValue | kGradientReference | kHessianReference;
+  const bool second = (need & kAnyHessian) != 0u;
+  if constexpr (ND > 0) {
+    if ((need & ~kDeformedOnly) == 0u) {
+      if (second) return differentiateIn<ND, true, 0, NV, ND, NR>(f, q, edgeVectors, deformedEdges, referenceEdges, need, weight, out);
+      return differentiateIn<ND, false, 0, NV, ND, NR>(f, q, edgeVectors, deformedEdges, referenceEdges, need, weight, out);
+    }
+  }
+  if constexpr (NR > 0) {
+    if ((need & ~kReferenceOnly) == 0u) {
+      if (second) return differentiateIn<NR, true, ND, NV, ND, NR>(f, q, edgeVectors, deformedEdges, referenceEdges, need, weight, out);
+      return differentiateIn<NR, false, ND, NV, ND, NR>(f, q, edgeVectors, deformedEdges, referenceEdges, need, weight, out);
+    }
+  }
+  if (second) return differentiateIn<N, true, 0, NV, ND, NR>(f, q, edgeVectors, deformedEdges, referenceEdges, need, weight, out);
+  differentiateIn<N, false, 0, NV, ND, NR>(f, q, edgeVectors, deformedEdges, referenceEdges, need, weight, out);
 }
 
 }  // namespace deformation_enrichment::shape_space::detail

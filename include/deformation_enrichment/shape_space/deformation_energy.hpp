@@ -7,6 +7,16 @@
 
 namespace deformation_enrichment::shape_space {
 
+/// Where DeformationEnergy::evaluate writes each output; null members are not computed.
+struct EnergyOutputs {
+  double* value = nullptr;
+  Eigen::VectorXd* gradientDeformed = nullptr;
+  Eigen::VectorXd* gradientReference = nullptr;
+  Eigen::SparseMatrix<double>* hessianDeformed = nullptr;
+  Eigen::SparseMatrix<double>* hessianMixed = nullptr;
+  Eigen::SparseMatrix<double>* hessianReference = nullptr;
+};
+
 class DeformationEnergy {
 public:
   virtual ~DeformationEnergy() = default;
@@ -37,6 +47,11 @@ public:
   /// d^2W/dx_bar^2, 3V x 3V, symmetric (both triangles stored).
   virtual Eigen::SparseMatrix<double> hessianReference(const Eigen::VectorXd& reference,
                                                        const Eigen::VectorXd& deformed) const = 0;
+
+  /// Several outputs at once, e.g. evaluate(xBar, x, {&value, &gradient, nullptr, &hessian}). The default
+  /// calls the single-output methods one by one; implementations override it to share one pass.
+  virtual void evaluate(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed,
+                        const EnergyOutputs& outputs) const;
 
 protected:
   /// Throws InvalidInputError naming the argument if a shape has the wrong size or a non-finite entry.

@@ -7,17 +7,19 @@
 
 namespace deformation_enrichment::shape_space {
 
+/// theta with its derivatives; gradient and hessian are uninitialised until dihedralAngleDerivatives fills them
+/// (hot loops construct many of these; zeroing a 12 x 12 matrix each time would cost as much as the angle).
 struct HingeAngle {
   double theta = 0.0;
-  Eigen::Matrix<double, 12, 1> gradient = Eigen::Matrix<double, 12, 1>::Zero();
-  Eigen::Matrix<double, 12, 12> hessian = Eigen::Matrix<double, 12, 12>::Zero();
+  Eigen::Matrix<double, 12, 1> gradient;
+  Eigen::Matrix<double, 12, 12> hessian;
 };
 
 /// theta in (-pi, pi]. Preconditions (checked by the caller): both triangles non-degenerate.
 double dihedralAngle(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj, const Eigen::Vector3d& xk,
                      const Eigen::Vector3d& xl);
 
-/// theta, its gradient and (if withHessian) its Hessian; the Hessian is left zero otherwise.
+/// theta, its gradient and (if withHessian) its Hessian; without it the Hessian is set to zero.
 HingeAngle dihedralAngleDerivatives(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj,
                                     const Eigen::Vector3d& xk, const Eigen::Vector3d& xl, bool withHessian);
 

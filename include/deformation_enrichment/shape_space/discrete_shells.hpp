@@ -7,15 +7,22 @@
 //  - Hyperelastic (Heeren et al. 2012 eq. 8, as in GOAST): sum_t A_bar W(tr G, det G), G = g_bar^-1 g,
 //    W(a, d) = mu/2 a + lambda/4 d - (mu/2 + lambda/4) log d - mu - lambda/4.
 // Bending: sum_e (theta_e - theta_bar_e)^2 c |e_bar|^2 / (A_bar_1 + A_bar_2), theta the dihedral angle;
-//   c = 3 with the DiscreteShells membrane (Grinspun et al.'s |e_bar| / h_bar_e, h_bar_e a third of the summed
-//   heights of the two triangles) and c = 1 with the Hyperelastic membrane (GOAST's SimpleBendingEnergy).
+//   c = 3 with the DiscreteShells membrane (Grinspun et al.'s |e_bar| / h_bar_e, h_bar_e a third of the average
+//   height of the two triangles) and c = 1 with the Hyperelastic membrane (GOAST's SimpleBendingEnergy).
 //
 // Non-manifold input: only edges shared by exactly two triangles carry a bending term. Boundary edges (one
-// triangle) and edges with three or more triangles are skipped for bending (counted, see below); every
+// triangle) and edges with three or more triangles (or two copies of one triangle) are skipped for bending
+// (counted, see numBoundaryEdges / numNonManifoldEdges); every
 // triangle and every distinct edge still carries its membrane term. Inconsistent triangle orientation is
-// accepted: each hinge's angle is measured from its first triangle's winding.
+// accepted: each hinge's angle is measured from its first triangle's winding. theta - theta_bar is taken
+// modulo 2 pi (in [-pi, pi]), so a hinge folding through +-pi does not jump.
 // A triangle whose area is below 1e-8 times its summed squared edge lengths, in either shape, is
 // degenerate: every evaluation then throws InvalidInputError naming the triangle and the shape.
+//
+// Evaluations are const and keep no state, so several threads may evaluate one DiscreteShells at once (each
+// call runs its own OpenMP loop over triangles, edges and hinges; nested inside an outer parallel region it
+// runs serially unless nesting is enabled). Hessians share one sparsity pattern (vertex pairs sharing a
+// triangle or a hinge), so blocks from different calls add without reallocation.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <vector>
@@ -25,6 +32,16 @@
 namespace deformation_enrichment::shape_space {
 
 enum class MembraneModel { DiscreteShells, Hyperelastic };
+
+namespace detail {
+/// Fixed sparsity of the Hessian blocks: vertex pairs that share a triangle or a hinge (built once).
+struct HessianPattern {
+  std::vector<int> neighbourStart;  ///< per vertex, range into neighbours (size V + 1)
+  std::vector<int> neighbours;      ///< sorted neighbour vertices, each vertex included in its own list
+  std::vector<int> outer;           ///< compressed column starts of zeros (size 3V + 1)
+  Eigen::SparseMatrix<double> zeros;  ///< 3V x 3V, the pattern with zero values
+};
+}  // namespace detail
 
 struct DiscreteShellsParameters {
   MembraneModel membrane = MembraneModel::Hyperelastic;
@@ -77,6 +94,9 @@ public:
 
   /// Several outputs in one pass over the mesh (outputs: OR of Output flags).
   ShellEvaluation evaluate(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed, unsigned outputs) const;
+  /// The interface's several-outputs call, in one pass over the mesh.
+  void evaluate(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed,
+                const EnergyOutputs& outputs) const override;
 
   /// Membrane and bending parts separately (bending already multiplied by bendingWeight).
   double membraneValue(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const;
@@ -98,6 +118,7 @@ private:
   ShellEvaluation assemble(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed, unsigned outputs,
                            unsigned parts) const;
   void checkTriangles(const Eigen::VectorXd& shape, const char* name) const;
+  void buildHessianPattern();
 
   Eigen::Matrix3Xi triangles_;
   Eigen::Index numVertices_ = 0;
@@ -106,6 +127,7 @@ private:
   std::vector<Eigen::Vector4i> hinges_;  ///< (i, j, k, l): edge i -> j as in triangle (i, j, k), l opposite
   Eigen::Index numBoundaryEdges_ = 0;
   Eigen::Index numNonManifoldEdges_ = 0;
+  detail::HessianPattern pattern_;
   int threads_ = 1;
 };
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <functional>
+#include <ostream>
 #include <string>
 
 #include "deformation_enrichment/shape_space/dihedral_angle.hpp"
@@ -53,6 +54,8 @@ struct Case {
   DiscreteShellsParameters parameters;
   bool closed;
 };
+
+void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
 
 class ShellDerivatives : public ::testing::TestWithParam<Case> {};
 

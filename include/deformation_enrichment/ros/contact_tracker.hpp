@@ -1,0 +1,53 @@
+#pragma once
+// Tool contacts in the mesh frame, from ToolContactArray messages and/or tool poses (proximity to the
+// surface), with staleness and rosbag-loop handling.
+#include <geometry_msgs/PoseStamped.h>
+#include <tf2_ros/buffer.h>
+
+#include <Eigen/Geometry>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "deformation_enrichment/ToolContactArray.h"
+
+namespace deformation_enrichment::ros_layer {
+
+struct TrackedContact {
+  std::string toolId;
+  Eigen::Vector3d position;  ///< in the mesh frame [m]
+  Eigen::Vector3d normal;    ///< unit outward normal in the mesh frame (zero if unknown)
+  double force = 0.0;        ///< [N]
+  ros::Time stamp;
+};
+
+class ContactTracker {
+public:
+  ContactTracker(const tf2_ros::Buffer& tf, ros::Duration staleAfter) : tf_(tf), staleAfter_(staleAfter) {}
+
+  /// Replaces all array-sourced contacts. Throws InvalidInputError naming the problem (non-finite values,
+  /// a frame tf cannot transform); then the previous contacts stay.
+  void updateFromArray(const ToolContactArray& message, const std::string& meshFrame);
+
+  /// Derives the contact of one tool from its tip pose: in contact when the tip lies within
+  /// `contactDistance` of a surface vertex; the normal is that vertex's rest normal. Throws like above.
+  void updateFromToolPose(const geometry_msgs::PoseStamped& pose, const std::string& toolId,
+                          const std::string& meshFrame, const Eigen::Matrix3Xf& surface,
+                          const Eigen::Matrix3Xd& restNormals, double contactDistance);
+
+  /// Contacts in contact and not older than the staleness limit at `now`. A clock that jumped backwards
+  /// (a rosbag loop) clears everything.
+  std::vector<TrackedContact> active(const ros::Time& now);
+
+  void clear() { contacts_.clear(); }
+
+private:
+  Eigen::Isometry3d toMeshFrame(const std_msgs::Header& header, const std::string& meshFrame) const;
+
+  const tf2_ros::Buffer& tf_;
+  ros::Duration staleAfter_;
+  std::map<std::string, TrackedContact> contacts_;  // by tool id; only tools in contact
+  ros::Time latestStamp_;
+};
+
+}  // namespace deformation_enrichment::ros_layer

@@ -1,0 +1,179 @@
+#include "deformation_enrichment/ros/enrichment_node.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+
+#include "deformation_enrichment/EnrichmentStatus.h"
+#include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/mesh/mesh_io.hpp"
+#include "deformation_enrichment/mesh/mesh_state.hpp"
+#include "deformation_enrichment/ros/conversions.hpp"
+
+namespace deformation_enrichment::ros_layer {
+
+EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
+    : nh_(nh),
+      privateNh_(privateNh),
+      tfListener_(tfBuffer_, nh),
+      contacts_(tfBuffer_, ros::Duration(privateNh.param("contact_timeout", 0.5))),
+      diagnostics_(nh, privateNh) {
+  toolPoseId_ = privateNh_.param<std::string>("tool_pose_id", "tool_pose");
+  toolContactDistance_ = privateNh_.param("tool_contact_distance", 0.003);
+  markerOptions_.maxTriangles = privateNh_.param("marker_max_triangles", 50000);
+  markerOptions_.displacementScale = privateNh_.param("marker_displacement_scale", 0.002);
+  minRate_ = privateNh_.param("expected_rate_min", 1.0);
+  maxRate_ = privateNh_.param("expected_rate_max", 1000.0);
+
+  diagnostics_.setHardwareID("none");
+  diagnostics_.add("enrichment", this, &EnrichmentNode::diagnose);
+  outputRate_ = std::make_unique<diagnostic_updater::HeaderlessTopicDiagnostic>(
+      "enriched_mesh_state", diagnostics_, diagnostic_updater::FrequencyStatusParam(&minRate_, &maxRate_, 0.1, 10));
+
+  const std::string restFile = privateNh_.param<std::string>("rest_mesh_file", "");
+  if (!restFile.empty()) {
+    try {
+      setRestMesh(mesh::readTriangleMesh(restFile), "file " + restFile);
+    } catch (const Error& e) {
+      ROS_ERROR("rest mesh file rejected: %s (waiting for the rest_mesh topic instead)", e.what());
+    }
+  }
+
+  enrichedPub_ = nh_.advertise<sensor_msgs::PointCloud2>("enriched_mesh_state", 2);
+  statusPub_ = privateNh_.advertise<EnrichmentStatus>("status", 10);
+  markersPub_ = privateNh_.advertise<visualization_msgs::MarkerArray>("markers", 1);
+  // No transport hints: nodelets then receive the publisher's shared pointer (zero copy).
+  restMeshSub_ = nh_.subscribe("rest_mesh", 1, &EnrichmentNode::onRestMesh, this);
+  meshStateSub_ = nh_.subscribe("mesh_state", 2, &EnrichmentNode::onMeshState, this);
+  contactsSub_ = nh_.subscribe("contacts", 10, &EnrichmentNode::onContacts, this);
+  toolPoseSub_ = nh_.subscribe("tool_pose", 10, &EnrichmentNode::onToolPose, this);
+
+  const double markerRate = privateNh_.param("marker_rate", 5.0);
+  if (markerRate > 0.0) markerTimer_ = nh_.createTimer(ros::Duration(1.0 / markerRate), &EnrichmentNode::onMarkerTimer, this);
+  diagnosticsTimer_ = nh_.createTimer(ros::Duration(0.5), [this](const ros::TimerEvent&) { diagnostics_.update(); });
+}
+
+void EnrichmentNode::reject(const std::string& input, const std::string& why) {
+  ++dropped_[input];
+  lastError_ = input + ": " + why;
+  // Throttle per input and kind of problem (digits stripped), so distinct problems are all reported.
+  std::string kind = input + why;
+  kind.erase(std::remove_if(kind.begin(), kind.end(), [](unsigned char c) { return std::isdigit(c); }), kind.end());
+  const ros::WallTime now = ros::WallTime::now();
+  auto& last = lastLogged_[kind];
+  if (last.isZero() || (now - last).toSec() >= 1.0) {
+    last = now;
+    ROS_ERROR("dropped %s: %s (keeping the last good state)", input.c_str(), why.c_str());
+  }
+}
+
+void EnrichmentNode::setRestMesh(mesh::TriangleMesh rest, const std::string& source) {
+  mesh::validate(rest, false);
+  restNormals_ = mesh::vertexNormals(rest);
+  ROS_INFO("rest mesh from %s: %ld vertices, %ld triangles", source.c_str(), static_cast<long>(rest.numVertices()),
+           static_cast<long>(rest.numTriangles()));
+  rest_ = std::move(rest);
+  // A new topology invalidates states of the old one.
+  lastInput_.reset();
+  lastEnriched_.reset();
+  lastPositions_.resize(3, 0);
+  lastEnrichedPositions_.resize(3, 0);
+}
+
+void EnrichmentNode::onRestMesh(const pcl_msgs::PolygonMeshConstPtr& message) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  try {
+    setRestMesh(triangleMeshFromMessage(*message), "topic rest_mesh");
+  } catch (const Error& e) {
+    reject("rest_mesh", e.what());
+  }
+}
+
+void EnrichmentNode::onMeshState(const sensor_msgs::PointCloud2ConstPtr& message) {
+  const auto start = std::chrono::steady_clock::now();
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++statesIn_;
+  if (!rest_) return reject("mesh_state", "no rest mesh yet (publish rest_mesh or set ~rest_mesh_file)");
+  Eigen::Matrix3Xf positions;
+  try {
+    positions = positionsFromCloud(*message);
+    mesh::validateMeshState(positions, rest_->numVertices());
+  } catch (const Error& e) {
+    return reject("mesh_state", e.what());
+  }
+  meshFrame_ = message->header.frame_id;
+  const std::vector<TrackedContact> active = contacts_.active(message->header.stamp);
+
+  // Until example sets exist (issue 5) the enrichment adds nothing: the input itself is the enriched state,
+  // published without a copy (nodelet subscribers share the pointer).
+  lastInput_ = message;
+  lastEnriched_ = message;
+  lastPositions_ = std::move(positions);
+  lastEnrichedPositions_ = lastPositions_;
+  enrichedPub_.publish(lastEnriched_);
+  outputRate_->tick();
+  ++statesOut_;
+
+  lastComputeMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  maxComputeMs_ = std::max(maxComputeMs_, lastComputeMs_);
+  EnrichmentStatus status;
+  status.header = message->header;
+  for (const auto& contact : active) status.tool_ids.push_back(contact.toolId);
+  status.confidence = 0.0f;
+  status.compute_ms = static_cast<float>(lastComputeMs_);
+  status.vertices_touched = 0;
+  statusPub_.publish(status);
+}
+
+void EnrichmentNode::onContacts(const ToolContactArrayConstPtr& message) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (meshFrame_.empty()) return reject("contacts", "no mesh state yet, so no mesh frame to place contacts in");
+  try {
+    contacts_.updateFromArray(*message, meshFrame_);
+  } catch (const Error& e) {
+    reject("contacts", e.what());
+  }
+}
+
+void EnrichmentNode::onToolPose(const geometry_msgs::PoseStampedConstPtr& message) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (meshFrame_.empty() || !rest_) return reject("tool_pose", "no mesh state yet to find the contact");
+  try {
+    contacts_.updateFromToolPose(*message, toolPoseId_, meshFrame_, lastPositions_, restNormals_, toolContactDistance_);
+  } catch (const Error& e) {
+    reject("tool_pose", e.what());
+  }
+}
+
+void EnrichmentNode::onMarkerTimer(const ros::TimerEvent&) {
+  if (markersPub_.getNumSubscribers() == 0) return;  // markers cost megabytes: only for an audience
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!rest_ || !lastInput_) return;
+  const auto active = contacts_.active(lastInput_->header.stamp);
+  markersPub_.publish(enrichmentMarkers(lastInput_->header, *rest_, lastPositions_, lastEnrichedPositions_, active,
+                                        markerOptions_));
+}
+
+void EnrichmentNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  uint64_t droppedTotal = 0;
+  for (const auto& [input, count] : dropped_) {
+    status.add("dropped " + input, count);
+    droppedTotal += count;
+  }
+  if (!rest_) {
+    status.summary(diagnostic_msgs::DiagnosticStatus::WARN, "waiting for a rest mesh");
+  } else if (droppedTotal > 0) {
+    status.summary(diagnostic_msgs::DiagnosticStatus::WARN, "inputs dropped; last: " + lastError_);
+  } else {
+    status.summary(diagnostic_msgs::DiagnosticStatus::OK, "enriching");
+  }
+  status.add("rest vertices", rest_ ? rest_->numVertices() : 0);
+  status.add("mesh states in", statesIn_);
+  status.add("enriched states out", statesOut_);
+  status.add("last compute [ms]", lastComputeMs_);
+  status.add("max compute [ms]", maxComputeMs_);
+  status.add("last error", lastError_);
+}
+
+}  // namespace deformation_enrichment::ros_layer

@@ -1,0 +1,260 @@
+// Integration test of the enrichment node's ROS contract against a real master (run by rostest with the
+// node as a separate process or as a nodelet): outputs, headers, frames, and every bad-input case is
+// logged on /rosout and survived with the last good state kept.
+#include <gtest/gtest.h>
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <geometry_msgs/PoseStamped.h>
+#include <ros/ros.h>
+#include <rosgraph_msgs/Log.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <functional>
+#include <limits>
+#include <mutex>
+
+#include "deformation_enrichment/EnrichmentStatus.h"
+#include "deformation_enrichment/ToolContactArray.h"
+#include "deformation_enrichment/mesh/grid_tet_mesh.hpp"
+#include "deformation_enrichment/mesh/tet_surface.hpp"
+#include "deformation_enrichment/ros/conversions.hpp"
+
+namespace de = deformation_enrichment;
+using de::ros_layer::cloudFromPositions;
+
+namespace {
+
+de::mesh::TriangleMesh slabSurface(int cells) {
+  return de::mesh::extractSurface(de::mesh::gridTetMesh(Eigen::Vector3d(-0.05, -0.05, 0), Eigen::Vector3d(0.05, 0.05, 0.02),
+                                                        Eigen::Vector3i(cells, cells, 1)))
+      .surface;
+}
+
+class EnrichmentNodeTest : public ::testing::Test {
+protected:
+  void SetUp() override {
+    restPub_ = nh_.advertise<pcl_msgs::PolygonMesh>("rest_mesh", 1, true);
+    statePub_ = nh_.advertise<sensor_msgs::PointCloud2>("mesh_state", 10);
+    contactsPub_ = nh_.advertise<de::ToolContactArray>("contacts", 10);
+    posePub_ = nh_.advertise<geometry_msgs::PoseStamped>("tool_pose", 10);
+    enrichedSub_ = nh_.subscribe("enriched_mesh_state", 10, &EnrichmentNodeTest::onEnriched, this);
+    statusSub_ = nh_.subscribe("enrichment/status", 10, &EnrichmentNodeTest::onStatus, this);
+    logSub_ = nh_.subscribe("/rosout", 100, &EnrichmentNodeTest::onLog, this);
+    // Messages published before a connection exists are lost: wait for every connection.
+    ASSERT_TRUE(waitFor([&] {
+      return statePub_.getNumSubscribers() > 0 && contactsPub_.getNumSubscribers() > 0 &&
+             posePub_.getNumSubscribers() > 0 && restPub_.getNumSubscribers() > 0 &&
+             enrichedSub_.getNumPublishers() > 0 && statusSub_.getNumPublishers() > 0;
+    }, 20.0))
+        << "the enrichment node did not come up";
+    setRest(slabSurface(8));
+  }
+
+  static bool waitFor(const std::function<bool()>& condition, double seconds) {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+    while (ros::ok() && ros::WallTime::now() < end) {
+      ros::spinOnce();
+      if (condition()) return true;
+      ros::WallDuration(0.005).sleep();
+    }
+    ros::spinOnce();
+    return condition();
+  }
+
+  std_msgs::Header header() {
+    std_msgs::Header h;
+    h.frame_id = "slab";
+    h.stamp = ros::Time(1000 + (++stampCounter_), 12345);  // unique per message
+    return h;
+  }
+
+  /// Publishes a state and returns whether an enriched state with its stamp arrived within `seconds`.
+  bool roundTrip(const sensor_msgs::PointCloud2& cloud, double seconds = 3.0) {
+    statePub_.publish(cloud);
+    return waitFor([&] { return findEnriched(cloud.header.stamp) != nullptr; }, seconds);
+  }
+
+  sensor_msgs::PointCloud2ConstPtr findEnriched(const ros::Time& stamp) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& m : enriched_)
+      if (m->header.stamp == stamp) return m;
+    return nullptr;
+  }
+
+  void setRest(const de::mesh::TriangleMesh& rest) {
+    rest_ = rest;
+    restPub_.publish(de::ros_layer::messageFromTriangleMesh(rest, header()));
+    // The new rest mesh is active once a state of its size goes through.
+    ASSERT_TRUE(waitFor([&] { return roundTrip(goodState(), 0.3); }, 20.0)) << "rest mesh never became active";
+  }
+
+  sensor_msgs::PointCloud2 goodState() { return cloudFromPositions(rest_.vertices.cast<float>(), header()); }
+
+  bool logged(const std::string& fragment, double seconds = 3.0) {
+    return waitFor([&] {
+      std::lock_guard<std::mutex> lock(mutex_);
+      for (const auto& log : logs_)
+        if (log.level >= rosgraph_msgs::Log::ERROR && log.msg.find(fragment) != std::string::npos) return true;
+      return false;
+    }, seconds);
+  }
+
+  /// A bad state is dropped (no output with its stamp), logged with `fragment`, and the node survives.
+  void expectDroppedAndSurvived(const sensor_msgs::PointCloud2& bad, const std::string& fragment) {
+    EXPECT_FALSE(roundTrip(bad, 1.0)) << "a bad state was published: " << fragment;
+    EXPECT_TRUE(logged(fragment)) << "no error on /rosout containing '" << fragment << "'";
+    EXPECT_TRUE(roundTrip(goodState())) << "the node did not recover after: " << fragment;
+  }
+
+  void onEnriched(const sensor_msgs::PointCloud2ConstPtr& m) { std::lock_guard<std::mutex> l(mutex_); enriched_.push_back(m); }
+  void onStatus(const de::EnrichmentStatusConstPtr& m) { std::lock_guard<std::mutex> l(mutex_); statuses_.push_back(m); }
+  void onLog(const rosgraph_msgs::Log& m) { std::lock_guard<std::mutex> l(mutex_); logs_.push_back(m); }
+
+  ros::NodeHandle nh_;
+  ros::Publisher restPub_, statePub_, contactsPub_, posePub_;
+  ros::Subscriber enrichedSub_, statusSub_, logSub_;
+  std::mutex mutex_;
+  std::vector<sensor_msgs::PointCloud2ConstPtr> enriched_;
+  std::vector<de::EnrichmentStatusConstPtr> statuses_;
+  std::vector<rosgraph_msgs::Log> logs_;
+  de::mesh::TriangleMesh rest_;
+  uint32_t stampCounter_ = 0;
+};
+
+TEST_F(EnrichmentNodeTest, EnrichedStateKeepsStampFrameLayoutAndStatusFollows) {
+  const sensor_msgs::PointCloud2 cloud = goodState();
+  ASSERT_TRUE(roundTrip(cloud));
+  const auto out = findEnriched(cloud.header.stamp);
+  EXPECT_EQ(out->header.frame_id, "slab");
+  EXPECT_EQ(out->width * out->height, cloud.width * cloud.height);
+  EXPECT_EQ(out->fields.size(), cloud.fields.size());
+  EXPECT_EQ(out->data, cloud.data) << "without contacts and examples the state passes unchanged";
+  EXPECT_TRUE(waitFor([&] {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& s : statuses_)
+      if (s->header.stamp == cloud.header.stamp && s->header.frame_id == "slab" && s->compute_ms >= 0.0f) return true;
+    return false;
+  }, 3.0));
+}
+
+TEST_F(EnrichmentNodeTest, HundredThousandVertexStateFlowsThrough) {
+  setRest(slabSurface(223));
+  ASSERT_GE(rest_.numVertices(), 100000);
+  const sensor_msgs::PointCloud2 cloud = goodState();
+  ASSERT_TRUE(roundTrip(cloud, 10.0));
+  const auto out = findEnriched(cloud.header.stamp);
+  EXPECT_EQ(out->header.frame_id, cloud.header.frame_id);
+  EXPECT_EQ(out->width * out->height, rest_.numVertices());
+  EXPECT_TRUE(de::ros_layer::positionsFromCloud(*out).allFinite());
+}
+
+TEST_F(EnrichmentNodeTest, BadMeshStatesAreLoggedDroppedAndSurvived) {
+  Eigen::Matrix3Xf tooFew = rest_.vertices.cast<float>().leftCols(rest_.numVertices() - 1);
+  expectDroppedAndSurvived(cloudFromPositions(tooFew, header()), "points but the rest mesh has");
+
+  sensor_msgs::PointCloud2 noZ = goodState();
+  noZ.fields.pop_back();  // x, y only
+  expectDroppedAndSurvived(noZ, "has no 'z' field");
+
+  Eigen::Matrix3Xf withNaN = rest_.vertices.cast<float>();
+  withNaN(1, 7) = std::numeric_limits<float>::quiet_NaN();
+  expectDroppedAndSurvived(cloudFromPositions(withNaN, header()), "point 7 is not finite");
+
+  sensor_msgs::PointCloud2 truncated = goodState();
+  truncated.data.resize(truncated.data.size() / 2);
+  expectDroppedAndSurvived(truncated, "does not match");
+}
+
+TEST_F(EnrichmentNodeTest, EmptyOrBrokenRestMeshIsRejectedAndTheOldOneKept) {
+  pcl_msgs::PolygonMesh empty;
+  empty.header = header();
+  restPub_.publish(empty);
+  EXPECT_TRUE(logged("rest_mesh"));
+  EXPECT_TRUE(roundTrip(goodState())) << "states of the old rest mesh must still be enriched";
+
+  pcl_msgs::PolygonMesh broken = de::ros_layer::messageFromTriangleMesh(rest_, header());
+  broken.polygons[0].vertices[1] = 999999;
+  restPub_.publish(broken);
+  EXPECT_TRUE(logged("references vertex 999999"));
+  EXPECT_TRUE(roundTrip(goodState()));
+}
+
+TEST_F(EnrichmentNodeTest, ContactsInUnknownFramesAreRejectedValidOnesReported) {
+  de::ToolContactArray contacts;
+  contacts.header = header();
+  de::ToolContact contact;
+  contact.tool_id = "PSM1";
+  contact.in_contact = true;
+  contact.position.z = 0.02;
+  contact.normal.z = 1.0;
+  contacts.contacts.push_back(contact);
+
+  contacts.header.frame_id = "no_such_frame";
+  contactsPub_.publish(contacts);
+  EXPECT_TRUE(logged("cannot transform contact from frame 'no_such_frame'"));
+
+  contacts.header = header();
+  contacts.contacts[0].position.x = std::numeric_limits<double>::quiet_NaN();
+  contactsPub_.publish(contacts);
+  EXPECT_TRUE(logged("non-finite"));
+
+  contacts.contacts[0].position.x = 0.0;
+  contactsPub_.publish(contacts);
+  ros::WallDuration(0.3).sleep();
+  sensor_msgs::PointCloud2 state = goodState();
+  state.header.stamp = contacts.header.stamp;
+  ASSERT_TRUE(roundTrip(state));
+  EXPECT_TRUE(waitFor([&] {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& s : statuses_)
+      if (s->header.stamp == state.header.stamp && s->tool_ids == std::vector<std::string>{"PSM1"}) return true;
+    return false;
+  }, 3.0)) << "the valid contact did not reach the status";
+}
+
+TEST_F(EnrichmentNodeTest, ToolPoseNearTheSurfaceBecomesAContact) {
+  geometry_msgs::PoseStamped pose;
+  pose.header = header();
+  pose.pose.position.x = rest_.vertices(0, 5);
+  pose.pose.position.y = rest_.vertices(1, 5);
+  pose.pose.position.z = rest_.vertices(2, 5) + 0.001;
+  pose.pose.orientation.w = 1.0;
+  posePub_.publish(pose);
+  ros::WallDuration(0.3).sleep();
+  sensor_msgs::PointCloud2 state = goodState();
+  state.header.stamp = pose.header.stamp;
+  ASSERT_TRUE(roundTrip(state));
+  EXPECT_TRUE(waitFor([&] {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& s : statuses_)
+      if (s->header.stamp == state.header.stamp && s->tool_ids == std::vector<std::string>{"tool_pose"}) return true;
+    return false;
+  }, 3.0));
+}
+
+TEST_F(EnrichmentNodeTest, MarkersForSubscribersAndDiagnostics) {
+  visualization_msgs::MarkerArrayConstPtr markers;
+  diagnostic_msgs::DiagnosticArrayConstPtr diagnostics;
+  auto markerSub = nh_.subscribe<visualization_msgs::MarkerArray>(
+      "enrichment/markers", 1, [&](const visualization_msgs::MarkerArrayConstPtr& m) { markers = m; });
+  auto diagnosticsSub = nh_.subscribe<diagnostic_msgs::DiagnosticArray>(
+      "/diagnostics", 10, [&](const diagnostic_msgs::DiagnosticArrayConstPtr& d) {
+        for (const auto& status : d->status)
+          if (status.name.find("enrichment") != std::string::npos) diagnostics = d;
+      });
+  ASSERT_TRUE(roundTrip(goodState()));
+  ASSERT_TRUE(waitFor([&] { return markers != nullptr; }, 5.0)) << "no markers although subscribed";
+  ASSERT_FALSE(markers->markers.empty());
+  EXPECT_EQ(markers->markers[0].type, visualization_msgs::Marker::TRIANGLE_LIST);
+  EXPECT_EQ(markers->markers[0].points.size(), 3u * rest_.numTriangles());
+  EXPECT_EQ(markers->markers[0].header.frame_id, "slab");
+  EXPECT_TRUE(waitFor([&] { return diagnostics != nullptr; }, 5.0)) << "no /diagnostics from the node";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ::testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_enrichment_node");
+  ros::NodeHandle nh;
+  return RUN_ALL_TESTS();
+}
