@@ -57,11 +57,21 @@ double averageObjective(const DeformationEnergy& energy, const std::vector<doubl
   if (gradient) gradient->setZero(y.size());
   for (size_t i = 0; i < examples.size(); ++i) {
     if (weights[i] == 0.0) continue;
-    value += weights[i] * energy.value(*examples[i], y);  // eq. 10 term
-    if (gradient) *gradient += weights[i] * energy.gradientDeformed(*examples[i], y);
+    double term = 0.0;
+    Eigen::VectorXd termGradient;
+    EnergyOutputs outputs;  // value and gradient in one pass over the mesh
+    outputs.value = &term;
+    outputs.gradientDeformed = gradient ? &termGradient : nullptr;
+    energy.evaluate(*examples[i], y, outputs);  // eq. 10 term
+    value += weights[i] * term;
+    if (gradient) *gradient += weights[i] * termGradient;
     if (symmetric) {  // eq. 1's extra term
-      value += weights[i] * energy.value(y, *examples[i]);
-      if (gradient) *gradient += weights[i] * energy.gradientReference(y, *examples[i]);
+      EnergyOutputs reverse;
+      reverse.value = &term;
+      reverse.gradientReference = gradient ? &termGradient : nullptr;
+      energy.evaluate(y, *examples[i], reverse);
+      value += weights[i] * term;
+      if (gradient) *gradient += weights[i] * termGradient;
     }
   }
   return value;

@@ -28,9 +28,8 @@ struct FlowOptions {
   bool reduced = false;              ///< reduced (subspace + L-BFGS) instead of full-space Newton
   int subspaceDimension = 16;        ///< PCA directions of the sequence (reduced mode)
   int flowDirectionShapes = 20;      ///< below this many shapes, flow tangents enrich the subspace (paper: 20)
-  /// Solve the shapes' averages in parallel (OpenMP over shapes). Only for an energy that is safe to call
-  /// from several threads at once and does not open its own OpenMP team (DiscreteShells: setThreadCount(1);
-  /// its multi-threaded evaluation crashes inside an outer parallel region). Off: the energy parallelises.
+  /// Solve the shapes' averages in parallel (OpenMP over shapes; meshes of >= 1000 vertices only). Needs
+  /// an energy that is safe to call from several threads (DiscreteShells is). Off: the energy parallelises.
   bool parallelShapes = false;
   AverageOptions full;
   ReducedAverageOptions reducedSolver;
