@@ -95,7 +95,9 @@ void smoothingStep(benchmark::State& state) {
     benchmark::DoNotOptimize(step.pathEnergy);
   }
   state.counters["path_energy_before"] = before;
-  state.counters["path_energy_after"] = step.pathEnergy;
+  state.counters["path_energy_after"] = flow.pathEnergy();
+  state.counters["tau"] = step.tau;
+  state.counters["seconds_per_shape"] = benchmark::Counter(double(seq.numShapes() - 2), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
   state.counters["vertices"] = double(seq.numVertices());
   state.counters["frames"] = double(seq.numShapes());
 }
