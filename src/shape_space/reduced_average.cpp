@@ -1,0 +1,101 @@
+#include "deformation_enrichment/shape_space/reduced_average.hpp"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/SparseCore>
+#include <LBFGS.h>
+
+#include "deformation_enrichment/error.hpp"
+
+namespace deformation_enrichment::shape_space {
+
+ReducedSpace makeReducedSpace(const DeformationEnergy& energy, Eigen::VectorXd origin,
+                              std::shared_ptr<const Eigen::MatrixXd> basis, const Eigen::VectorXd& reference,
+                              double ridgeFactor) {
+  if (!basis || basis->cols() == 0) throw InvalidInputError("reduced space: the subspace has dimension 0");
+  if (origin.size() != reference.size() || basis->rows() != reference.size())
+    throw InvalidInputError("reduced space: subspace and reference shape differ in size");
+  ReducedSpace space;
+  space.origin = std::move(origin);
+  space.basis = std::move(basis);
+  const Eigen::SparseMatrix<double> h = energy.hessianDeformed(reference, reference);
+  const Eigen::MatrixXd& b = *space.basis;
+  Eigen::MatrixXd hr = b.transpose() * (h * b);
+  hr = 0.5 * (hr + hr.transpose());
+  // Rigid motions inside the subspace make hr singular. The ridge must not be tiny: the objective's rigid
+  // null space sits at the unknown shape, not at the reference, and a near-singular preconditioner would
+  // blow those slightly different directions up (measured: 1e-8 stalls L-BFGS, 1e-3 converges).
+  const double ridge = ridgeFactor * std::max(hr.diagonal().cwiseAbs().mean(), 1e-300);
+  hr.diagonal().array() += ridge;
+  space.preconditioner.compute(hr);
+  if (space.preconditioner.info() != Eigen::Success)
+    throw NumericalError("reduced space: the reduced rest Hessian is not positive definite");
+  return space;
+}
+
+AverageResult reducedElasticAverage(const DeformationEnergy& energy, const std::vector<double>& weights,
+                                    const std::vector<const Eigen::VectorXd*>& examples, const ReducedSpace& space,
+                                    const Eigen::VectorXd& initial, const ReducedAverageOptions& options) {
+  const ReducedSpace& sub = space;
+  if (initial.size() != sub.origin.size()) throw InvalidInputError("reduced average: initial shape has the wrong size");
+  const auto& llt = space.preconditioner;
+  const Eigen::MatrixXd lower = llt.matrixL();
+  // q = L^-T z, so dF/dz = L^-1 B^T dF/dy.
+  const auto lift = [&](const Eigen::VectorXd& z) {
+    return Eigen::VectorXd(sub.lift(lower.transpose().triangularView<Eigen::Upper>().solve(z)));
+  };
+  int evaluations = 0;
+  const auto objective = [&](const Eigen::VectorXd& z, Eigen::VectorXd& gradZ) {
+    ++evaluations;
+    Eigen::VectorXd gradY;
+    double f;
+    try {
+      f = averageObjective(energy, weights, examples, lift(z), options.symmetric, &gradY);
+    } catch (const InvalidInputError&) {  // a line-search trial collapsed a triangle: reject it
+      gradZ = Eigen::VectorXd::Zero(z.size());
+      return std::numeric_limits<double>::infinity();
+    }
+    gradZ = lower.triangularView<Eigen::Lower>().solve(sub.basis->transpose() * gradY);
+    if (!std::isfinite(f)) return std::numeric_limits<double>::infinity();
+    return f;
+  };
+  Eigen::VectorXd z = lower.transpose() * sub.coordinates(initial);
+  Eigen::VectorXd gradZ;
+  const double f0 = objective(z, gradZ);
+  if (!std::isfinite(f0)) throw NumericalError("reduced average: objective is not finite at the start");
+  const double tolerance = std::max(std::sqrt(options.relativeTolerance * std::max(f0, 0.0)), options.absoluteTolerance);
+
+  LBFGSpp::LBFGSParam<double> param;
+  param.m = options.memory;
+  param.epsilon = tolerance;
+  param.epsilon_rel = 0.0;
+  param.max_iterations = options.maxIterations;
+  param.max_linesearch = 60;
+  LBFGSpp::LBFGSSolver<double> solver(param);
+  double f = f0;
+  int iterations = 0;
+  std::string failure;
+  try {
+    iterations = solver.minimize(objective, z, f);
+  } catch (const std::exception& e) {
+    failure = e.what();  // typically a line search that cannot progress: judged by the gradient below
+  }
+  const double fEnd = objective(z, gradZ);
+  const double gnorm = gradZ.norm();
+  // A line search that stalls at round-off level is a converged result; anything else is an error.
+  const double accepted = failure.empty() ? tolerance : std::max(tolerance, 1e-8 * std::sqrt(std::max(f0, 0.0)));
+  if (!(gnorm <= accepted * (1.0 + 1e-9)) || !std::isfinite(fEnd))
+    throw NumericalError("reduced average: L-BFGS did not converge after " + std::to_string(iterations) +
+                         " iterations (reduced gradient norm " + std::to_string(gnorm) + ", tolerance " +
+                         std::to_string(tolerance) + (failure.empty() ? "" : ", " + failure) + ")");
+  AverageResult result;
+  result.shape = lift(z);
+  result.objective = fEnd;
+  result.iterations = iterations;
+  return result;
+}
+
+}  // namespace deformation_enrichment::shape_space

@@ -1,0 +1,49 @@
+#include "deformation_enrichment/shape_space/rigid_interpolation.hpp"
+
+#include <Eigen/SVD>
+
+#include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/shape_space/shape_sequence.hpp"
+
+namespace deformation_enrichment::shape_space {
+
+RigidTransform kabsch(const Eigen::VectorXd& from, const Eigen::VectorXd& to) {
+  if (from.size() != to.size() || from.size() % 3 != 0 || from.size() == 0)
+    throw InvalidInputError("kabsch: position vectors must be non-empty, equally long and multiples of 3");
+  if (!from.allFinite() || !to.allFinite()) throw InvalidInputError("kabsch: non-finite positions");
+  const Eigen::Matrix3Xd p = unflatten(from), q = unflatten(to);
+  const Eigen::Vector3d pc = p.rowwise().mean(), qc = q.rowwise().mean();
+  const Eigen::Matrix3d cov = (q.colwise() - qc) * (p.colwise() - pc).transpose();
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(cov, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
+  d(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;  // no reflections
+  RigidTransform motion;
+  motion.rotation = svd.matrixU() * d * svd.matrixV().transpose();
+  motion.translation = qc - motion.rotation * pc;
+  return motion;
+}
+
+Eigen::VectorXd applyRigid(const RigidTransform& motion, const Eigen::VectorXd& positions) {
+  Eigen::Matrix3Xd p = unflatten(positions);
+  p = (motion.rotation * p).colwise() + motion.translation;
+  return flatten(p);
+}
+
+Eigen::VectorXd rigidAwareInterpolation(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double t) {
+  if (!(t >= 0.0 && t <= 1.0)) throw InvalidInputError("interpolation parameter must lie in [0, 1]");
+  if (t == 0.0) return a;
+  if (t == 1.0) return b;
+  const RigidTransform ab = kabsch(a, b);
+  const Eigen::Matrix3Xd pa = unflatten(a);
+  const Eigen::Vector3d ca = pa.rowwise().mean();
+  const Eigen::Matrix3Xd pb = unflatten(b);
+  const Eigen::Vector3d cb = pb.rowwise().mean();
+  // b brought back into a's frame (about its centroid), blended with a, then rotated by the partial rotation.
+  const Eigen::Matrix3Xd bInA = ab.rotation.transpose() * (pb.colwise() - cb);
+  const Eigen::Matrix3Xd blended = (1.0 - t) * (pa.colwise() - ca) + t * bInA;
+  const Eigen::Quaterniond q = Eigen::Quaterniond::Identity().slerp(t, Eigen::Quaterniond(ab.rotation));
+  const Eigen::Matrix3Xd out = (q.toRotationMatrix() * blended).colwise() + ((1.0 - t) * ca + t * cb);
+  return flatten(out);
+}
+
+}  // namespace deformation_enrichment::shape_space

@@ -1,0 +1,134 @@
+// Shape-space benchmarks (paper 004 Table 1 / §7), each next to its baseline in one process:
+//  - geodesic finger0 -> finger1 (2046 vertices, ../shared/data/finger) with DE_BENCH_GEODESIC_SHAPES
+//    shapes (default 8): reduced (PCA + flow tangents, L-BFGS) vs full space (Newton); counters: length,
+//    path energy, flow steps. Paper 004: 6.42 s (Java); target here <= 0.5 s.
+//  - one smoothing step of a ~15k-vertex, DE_BENCH_FRAMES-frame (default 140) sequence of a noisy bending
+//    sheet (DE_BENCH_GRID^2 vertices, default 122^2 = 14884), reduced mode, vs the per-vertex Gaussian
+//    trajectory filter. Paper 004: 2.13 s/step (Java, with a 1252-vertex ghost mesh); target <= 0.3 s.
+// Run: bench_shape_space --benchmark_repetitions=1 (each case runs one iteration: they take seconds).
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <random>
+#include <string>
+
+#include "deformation_enrichment/mesh/mesh_io.hpp"
+#include "deformation_enrichment/shape_space/discrete_shells.hpp"
+#include "deformation_enrichment/shape_space/geodesic.hpp"
+#include "deformation_enrichment/shape_space/shape_sequence.hpp"
+#include "deformation_enrichment/shape_space/smoothing_flow.hpp"
+
+namespace ss = deformation_enrichment::shape_space;
+namespace dm = deformation_enrichment::mesh;
+
+namespace {
+
+int envInt(const char* name, int fallback) {
+  const char* v = std::getenv(name);
+  return v ? std::atoi(v) : fallback;
+}
+
+void geodesicCase(benchmark::State& state, bool reduced) {
+  const dm::TriangleMesh a = dm::readTriangleMesh("/work/shared/data/finger/finger0.ply");
+  const dm::TriangleMesh b = dm::readTriangleMesh("/work/shared/data/finger/finger1.ply");
+  const ss::ShapeSequence ends = ss::makeSequence({a, b}, 2);
+  ss::DiscreteShells energy(ends.triangles, ends.numVertices(), ss::DiscreteShellsParameters::hyperelastic());
+  ss::GeodesicOptions options;
+  options.shapes = envInt("DE_BENCH_GEODESIC_SHAPES", 8);
+  options.flow.tau = 1.0;
+  options.flow.reduced = reduced;
+  options.flow.subspaceDimension = 16;
+  options.requireConvergence = false;
+  ss::GeodesicResult g;
+  for (auto _ : state) {
+    g = ss::geodesic(energy, ends.triangles, ends.shapes[0], ends.shapes[1], options);
+    benchmark::DoNotOptimize(g.length);
+  }
+  state.counters["length"] = g.length;
+  state.counters["path_energy"] = g.pathEnergy;
+  state.counters["flow_steps"] = g.iterations;
+  state.counters["converged"] = g.converged ? 1 : 0;
+  state.counters["vertices"] = double(ends.numVertices());
+  state.counters["shapes"] = options.shapes;
+}
+
+// A bumpy sheet bending over time with per-frame noise: the smoothing input.
+ss::ShapeSequence bendingSheet(int n, int frames) {
+  ss::ShapeSequence seq;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> noise(-0.002, 0.002);
+  seq.triangles.resize(3, 2 * (n - 1) * (n - 1));
+  int t = 0;
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) {
+      const int v = j * n + i;
+      seq.triangles.col(t++) << v, v + 1, v + n + 1;
+      seq.triangles.col(t++) << v, v + n + 1, v + n;
+    }
+  for (int f = 0; f < frames; ++f) {
+    const double kappa = 0.2 + 2.0 * std::sin(M_PI * f / (frames - 1));
+    Eigen::VectorXd x(3 * n * n);
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const double u = double(i) / (n - 1) - 0.5, w = double(j) / (n - 1);
+        const double z = 0.1 * std::sin(3 * u) * std::sin(3 * w), theta = kappa * u, r = 1.0 / kappa - z;
+        x.segment<3>(3 * (j * n + i)) << r * std::sin(theta) + noise(rng), w + noise(rng), 1.0 / kappa - r * std::cos(theta) + noise(rng);
+      }
+    seq.shapes.push_back(x);
+  }
+  return seq;
+}
+
+void smoothingStep(benchmark::State& state) {
+  const ss::ShapeSequence seq = bendingSheet(envInt("DE_BENCH_GRID", 122), envInt("DE_BENCH_FRAMES", 140));
+  ss::DiscreteShells energy(seq.triangles, seq.numVertices(), ss::DiscreteShellsParameters::hyperelastic());
+  ss::FlowOptions options;
+  options.tau = 0.5;
+  options.reduced = true;
+  options.subspaceDimension = 16;
+  ss::SmoothingFlow flow(energy, seq, options);  // preprocess (subspace, preconditioners): not timed
+  const double before = flow.pathEnergy();
+  ss::FlowStep step;
+  for (auto _ : state) {
+    step = flow.step();
+    benchmark::DoNotOptimize(step.pathEnergy);
+  }
+  state.counters["path_energy_before"] = before;
+  state.counters["path_energy_after"] = flow.pathEnergy();
+  state.counters["tau"] = step.tau;
+  state.counters["seconds_per_shape"] = benchmark::Counter(double(seq.numShapes() - 2), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["vertices"] = double(seq.numVertices());
+  state.counters["frames"] = double(seq.numShapes());
+}
+
+// Baseline: Gaussian filter (sigma = 1 frame, 7 taps) of every vertex trajectory, same sequence.
+void gaussianFilterStep(benchmark::State& state) {
+  const ss::ShapeSequence seq = bendingSheet(envInt("DE_BENCH_GRID", 122), envInt("DE_BENCH_FRAMES", 140));
+  std::vector<Eigen::VectorXd> out = seq.shapes;
+  for (auto _ : state) {
+    const int m = int(seq.shapes.size());
+    for (int i = 1; i + 1 < m; ++i) {
+      Eigen::VectorXd sum = Eigen::VectorXd::Zero(seq.shapes[0].size());
+      double weight = 0.0;
+      for (int j = std::max(0, i - 3); j <= std::min(m - 1, i + 3); ++j) {
+        const double w = std::exp(-0.5 * (i - j) * (i - j));
+        sum += w * seq.shapes[size_t(j)];
+        weight += w;
+      }
+      out[size_t(i)] = sum / weight;
+    }
+    benchmark::DoNotOptimize(out.back().data());
+  }
+  state.counters["vertices"] = double(seq.numVertices());
+  state.counters["frames"] = double(seq.numShapes());
+}
+
+}  // namespace
+
+BENCHMARK_CAPTURE(geodesicCase, reduced, true)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+BENCHMARK_CAPTURE(geodesicCase, full, false)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+BENCHMARK(smoothingStep)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+BENCHMARK(gaussianFilterStep)->Iterations(3)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+BENCHMARK_MAIN();

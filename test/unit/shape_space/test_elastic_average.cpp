@@ -1,0 +1,128 @@
+// Elastic average (eq. 10 and eq. 1): derivatives, stationarity, rigid motions, reduced vs full, errors.
+#include <gtest/gtest.h>
+
+#include <limits>
+#include <memory>
+
+#include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/shape_space/discrete_shells.hpp"
+#include "deformation_enrichment/shape_space/elastic_average.hpp"
+#include "deformation_enrichment/shape_space/reduced_average.hpp"
+#include "flow_test_sequences.hpp"
+
+namespace ss = deformation_enrichment::shape_space;
+namespace de = deformation_enrichment;
+using namespace ss::test;
+
+namespace {
+
+struct AverageSetup {
+  FlatMesh base = bumpyGrid(5, 11);
+  ss::DiscreteShells energy{base.triangles, base.vertices.size() / 3, ss::DiscreteShellsParameters::classic()};
+  int serial = (energy.setThreadCount(1), 1);  // tiny meshes: OpenMP overhead would dominate
+  Eigen::VectorXd y0 = bent(base.vertices, 0.3);
+  Eigen::VectorXd y1 = bent(base.vertices, 2.5, 0.15);
+  Eigen::VectorXd y2 = perturbed(bent(base.vertices, 1.2, 0.05), 0.01, 5);
+  std::vector<double> w{0.3, 0.5, 0.2};
+  std::vector<const Eigen::VectorXd*> ys{&y0, &y1, &y2};
+};
+
+}  // namespace
+
+TEST(ElasticAverage, ObjectiveGradientMatchesFiniteDifferences) {
+  AverageSetup s;
+  const Eigen::VectorXd y = perturbed(s.y2, 0.02, 9);
+  for (bool symmetric : {false, true}) {
+    Eigen::VectorXd g;
+    ss::averageObjective(s.energy, s.w, s.ys, y, symmetric, &g);
+    const double h = 1e-6;
+    for (Eigen::Index k = 0; k < y.size(); k += 7) {
+      Eigen::VectorXd p = y, m = y;
+      p[k] += h;
+      m[k] -= h;
+      const double fd = (ss::averageObjective(s.energy, s.w, s.ys, p, symmetric, nullptr) -
+                         ss::averageObjective(s.energy, s.w, s.ys, m, symmetric, nullptr)) / (2 * h);
+      EXPECT_NEAR(g[k], fd, 1e-6 * (1 + std::abs(fd))) << "coordinate " << k << " symmetric " << symmetric;
+    }
+  }
+}
+
+TEST(ElasticAverage, MinimiserIsStationaryAndBelowEveryInput) {
+  AverageSetup s;
+  for (bool symmetric : {false, true}) {
+    ss::AverageOptions opt;
+    opt.symmetric = symmetric;
+    const ss::AverageResult r = ss::elasticAverage(s.energy, s.w, s.ys, s.y2, opt);
+    Eigen::VectorXd g0, g;
+    const double f0 = ss::averageObjective(s.energy, s.w, s.ys, s.y2, symmetric, &g0);
+    const double f = ss::averageObjective(s.energy, s.w, s.ys, r.shape, symmetric, &g);
+    EXPECT_LT(g.norm(), 1e-6 * g0.norm()) << "symmetric " << symmetric;
+    EXPECT_LT(f, f0);
+    for (const auto* y : s.ys) EXPECT_LE(f, ss::averageObjective(s.energy, s.w, s.ys, *y, symmetric, nullptr));
+  }
+}
+
+TEST(ElasticAverage, AveragingOneShapeReturnsIt) {
+  AverageSetup s;
+  const Eigen::VectorXd y = s.y1;
+  const ss::AverageResult r = ss::elasticAverage(s.energy, {1.0, 2.0}, {&y, &y}, y);
+  EXPECT_LT((r.shape - y).norm(), 1e-12);
+}
+
+TEST(ElasticAverage, ResultFollowsRigidMotions) {
+  AverageSetup s;
+  const ss::AverageResult r = ss::elasticAverage(s.energy, s.w, s.ys, s.y2);
+  const Eigen::Matrix3d rot = someRotation(0.9);
+  const Eigen::Vector3d t(1.0, -0.5, 2.0);
+  // All inputs and the start moved together: the result moves the same way.
+  const Eigen::VectorXd m0 = moved(s.y0, rot, t), m1 = moved(s.y1, rot, t), m2 = moved(s.y2, rot, t);
+  const ss::AverageResult rm = ss::elasticAverage(s.energy, s.w, {&m0, &m1, &m2}, m2);
+  EXPECT_LT((rm.shape - moved(r.shape, rot, t)).norm(), 1e-6 * r.shape.norm());
+  // One example moved on its own: the energy only sees its intrinsic geometry, the result is unchanged.
+  const ss::AverageResult rOne = ss::elasticAverage(s.energy, s.w, {&s.y0, &m1, &s.y2}, s.y2);
+  EXPECT_LT((rOne.shape - r.shape).norm(), 1e-6 * r.shape.norm());
+}
+
+TEST(ElasticAverage, ReducedInTheFullBasisMatchesNewton) {
+  AverageSetup s;
+  const ss::AverageResult full = ss::elasticAverage(s.energy, s.w, s.ys, s.y2);
+  auto basis = std::make_shared<const Eigen::MatrixXd>(Eigen::MatrixXd::Identity(s.y2.size(), s.y2.size()));
+  const ss::ReducedSpace space = ss::makeReducedSpace(s.energy, s.y2, basis, s.y2);
+  ss::ReducedAverageOptions opt;
+  opt.relativeTolerance = 1e-16;
+  const ss::AverageResult reduced = ss::reducedElasticAverage(s.energy, s.w, s.ys, space, s.y2, opt);
+  // Both are minimisers; they may differ by a rigid motion (null space), so compare energies and the
+  // shapes after rigid alignment.
+  EXPECT_NEAR(reduced.objective, full.objective, 1e-7 * full.objective);
+  Eigen::VectorXd g;
+  ss::averageObjective(s.energy, s.w, s.ys, reduced.shape, false, &g);
+  Eigen::VectorXd g0;
+  ss::averageObjective(s.energy, s.w, s.ys, s.y2, false, &g0);
+  EXPECT_LT(g.norm(), 1e-4 * g0.norm());
+}
+
+TEST(ElasticAverage, NonConvergenceIsAnError) {
+  AverageSetup s;
+  ss::AverageOptions opt;
+  opt.maxIterations = 1;
+  EXPECT_THROW(ss::elasticAverage(s.energy, s.w, s.ys, s.y2, opt), de::NumericalError);
+  auto basis = std::make_shared<const Eigen::MatrixXd>(Eigen::MatrixXd::Identity(s.y2.size(), s.y2.size()));
+  const ss::ReducedSpace space = ss::makeReducedSpace(s.energy, s.y2, basis, s.y2);
+  ss::ReducedAverageOptions ropt;
+  ropt.maxIterations = 2;
+  EXPECT_THROW(ss::reducedElasticAverage(s.energy, s.w, s.ys, space, s.y2, ropt), de::NumericalError);
+}
+
+TEST(ElasticAverage, BadInputGivesClearErrors) {
+  AverageSetup s;
+  EXPECT_THROW(ss::elasticAverage(s.energy, {1.0}, s.ys, s.y2), de::InvalidInputError);
+  EXPECT_THROW(ss::elasticAverage(s.energy, {1.0, -1.0, 1.0}, s.ys, s.y2), de::InvalidInputError);
+  EXPECT_THROW(ss::elasticAverage(s.energy, {0.0, 0.0, 0.0}, s.ys, s.y2), de::InvalidInputError);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(ss::elasticAverage(s.energy, {1.0, nan, 1.0}, s.ys, s.y2), de::InvalidInputError);
+  Eigen::VectorXd bad = s.y1;
+  bad[4] = nan;
+  EXPECT_THROW(ss::elasticAverage(s.energy, s.w, {&s.y0, &bad, &s.y2}, s.y2), de::InvalidInputError);
+  const Eigen::VectorXd shorter = s.y1.head(s.y1.size() - 3);
+  EXPECT_THROW(ss::elasticAverage(s.energy, s.w, {&s.y0, &shorter, &s.y2}, s.y2), de::InvalidInputError);
+}

@@ -1,0 +1,74 @@
+// The de_smooth / de_geodesic command-line tools end to end: OBJ in, OBJ out, one JSON object on stdout.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "deformation_enrichment/mesh/mesh_io.hpp"
+#include "deformation_enrichment/shape_space/shape_sequence.hpp"
+#include "flow_test_sequences.hpp"
+
+namespace fs = std::filesystem;
+namespace ss = deformation_enrichment::shape_space;
+using namespace ss::test;
+
+namespace {
+
+std::string run(const std::string& command, int* status) {
+  std::string out;
+  FILE* pipe = popen((command + " 2>/dev/null").c_str(), "r");
+  if (!pipe) return out;
+  char buffer[4096];
+  while (fgets(buffer, sizeof(buffer), pipe)) out += buffer;
+  *status = pclose(pipe);
+  return out;
+}
+
+std::string tool(const char* name) { return (fs::path(DE_TOOL_DIR) / name).string(); }
+
+}  // namespace
+
+TEST(ShapeSpaceTools, SmoothAndGeodesicWriteMeshesAndJson) {
+  if (!fs::exists(tool("de_smooth")) || !fs::exists(tool("de_geodesic")))
+    GTEST_SKIP() << "build the de_smooth and de_geodesic targets first";
+  const fs::path dir = fs::path(::testing::TempDir()) / "de_shape_space_tools";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const FlatMesh base = bumpyGrid(5, 41);
+  const auto shapes = noisyBending(base, 5, 0.2, 2.0, 0.01, 9);
+  std::string inputs;
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    const std::string path = (dir / ("frame" + std::to_string(i) + ".obj")).string();
+    deformation_enrichment::mesh::writeTriangleMesh(path, {ss::unflatten(shapes[i]), base.triangles});
+    inputs += " " + path;
+  }
+  int status = 0;
+  const std::string smoothJson = run(tool("de_smooth") + " --input" + inputs + " --output " + (dir / "smooth").string() +
+                                         " --iterations 2 --tau 0.5 --restoring 0 --full --json", &status);
+  ASSERT_EQ(status, 0) << smoothJson;
+  const auto smooth = nlohmann::json::parse(smoothJson);
+  ASSERT_EQ(smooth["path_energy"].size(), 3u);
+  EXPECT_LT(smooth["path_energy"][2].get<double>(), smooth["path_energy"][0].get<double>());
+  EXPECT_GT(smooth["seconds"].get<double>(), 0.0);
+  for (size_t i = 0; i < shapes.size(); ++i) EXPECT_TRUE(fs::exists(dir / "smooth" / ("frame" + std::to_string(i) + ".obj")));
+
+  const std::string geoJson = run(tool("de_geodesic") + " " + (dir / "frame0.obj").string() + " " +
+                                      (dir / "frame4.obj").string() + " --shapes 4 --full --json --output " +
+                                      (dir / "geo").string(), &status);
+  ASSERT_EQ(status, 0) << geoJson;
+  const auto geo = nlohmann::json::parse(geoJson);
+  EXPECT_GT(geo["length"].get<double>(), 0.0);
+  EXPECT_GT(geo["path_energy"].get<double>(), 0.0);
+  EXPECT_TRUE(fs::exists(dir / "geo" / "geodesic_003.obj"));
+
+  // Bad input: two shapes are not a sequence; the tool fails with a non-zero status and no JSON.
+  const std::string bad = run(tool("de_smooth") + " --input " + (dir / "frame0.obj").string() + " " +
+                                  (dir / "frame1.obj").string() + " --output " + (dir / "bad").string() + " --json", &status);
+  EXPECT_NE(status, 0);
+  EXPECT_TRUE(bad.empty());
+  fs::remove_all(dir);
+}
