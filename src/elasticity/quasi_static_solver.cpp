@@ -43,7 +43,8 @@ struct QuasiStaticSolver::Linear {
   LinearSolverKind kind;
   Eigen::VectorXi dofMap;
   std::vector<int> freeDofs;  ///< global dof of each reduced row
-  Eigen::SparseMatrix<double> H;
+  Eigen::SparseMatrix<double> H;       ///< projected Hessian (lower triangle)
+  Eigen::SparseMatrix<double> Hexact;  ///< exact Hessian, same pattern (used near the solution)
   std::vector<Eigen::Index> diagonal;  ///< value index of H(i, i)
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt;
 #ifdef DE_HAVE_CHOLMOD
@@ -69,20 +70,20 @@ struct QuasiStaticSolver::Linear {
     }
   }
 
-  /// Factorises H + shift I; true if positive definite.
-  bool factorize(double shift) {
-    for (Eigen::Index i : diagonal) H.valuePtr()[i] += shift;
+  /// Factorises M + shift I (M has the pattern of H); true if positive definite.
+  bool factorize(Eigen::SparseMatrix<double>& M, double shift) {
+    for (Eigen::Index i : diagonal) M.valuePtr()[i] += shift;
     bool ok = false;
     if (kind == LinearSolverKind::SimplicialLDLT) {
-      ldlt.factorize(H);
+      ldlt.factorize(M);
       ok = ldlt.info() == Eigen::Success && ldlt.vectorD().minCoeff() > 0.0;
     } else {
 #ifdef DE_HAVE_CHOLMOD
-      cholmod.factorize(H);
+      cholmod.factorize(M);
       ok = cholmod.info() == Eigen::Success;
 #endif
     }
-    for (Eigen::Index i : diagonal) H.valuePtr()[i] -= shift;
+    for (Eigen::Index i : diagonal) M.valuePtr()[i] -= shift;
     return ok;
   }
 
@@ -165,6 +166,7 @@ SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const Dirichle
   result.status = SolverStatus::MaxIterations;
   if (forceNorm <= result.forceTolerance) result.status = SolverStatus::Converged;
   Eigen::Matrix3Xd trial;
+  bool tryExact = settings_.exactHessianBelow > 0.0;
   while (result.status != SolverStatus::Converged && result.iterations < settings_.maxIterations) {
     if (secondsSince(start) > settings_.maxSeconds) {
       result.status = SolverStatus::TimeLimit;
@@ -180,13 +182,26 @@ SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const Dirichle
     meanDiagonal = std::max(meanDiagonal / static_cast<double>(linear.diagonal.size()), std::numeric_limits<double>::min());
     Eigen::VectorXd direction;
     bool factored = false;
-    for (double shift = 0.0; shift <= 1e3 * meanDiagonal; shift = shift == 0.0 ? 1e-10 * meanDiagonal : shift * 100.0) {
-      if (!linear.factorize(shift)) continue;
+    // Close to a stable equilibrium the exact Hessian is positive definite and gives Newton's quadratic
+    // convergence, which the projected one (exact only where every element is convex) loses. Try it once
+    // the force is small; after the first failure stay with the projection for this solve.
+    if (tryExact && forceNorm <= settings_.exactHessianBelow * result.initialForceNorm) {
+      if (linear.Hexact.nonZeros() != linear.H.nonZeros()) linear.Hexact = linear.H;
+      fem_.assembleReduced(positions, map, true, HessianKind::Exact, linear.Hexact, nullptr);
+      if (linear.factorize(linear.Hexact, 0.0)) {
+        direction = linear.solve(-g);
+        factored = direction.allFinite() && direction.dot(g) < 0.0;
+      }
+      record.exactHessian = factored;
+      tryExact = factored;
+    }
+    for (double shift = 0.0; !factored && shift <= 1e3 * meanDiagonal;
+         shift = shift == 0.0 ? 1e-10 * meanDiagonal : shift * 100.0) {
+      if (!linear.factorize(linear.H, shift)) continue;
       direction = linear.solve(-g);
       if (direction.allFinite() && direction.dot(g) < 0.0) {
         record.regularisation = shift;
         factored = true;
-        break;
       }
     }
     record.factorSeconds = secondsSince(phase);
@@ -199,7 +214,9 @@ SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const Dirichle
     const double slope = direction.dot(g);
     double alpha = 1.0, trialEnergy = 0.0;
     bool accepted = false;
-    for (int step = 0; step < settings_.maxLineSearchSteps; ++step, alpha *= 0.5) {
+    // Below the round-off level of E the Armijo test only compares noise: stop back-tracking there.
+    const double noise = energyNoise + 1e-12 * std::abs(energy);
+    for (int step = 0; step < settings_.maxLineSearchSteps && alpha * std::abs(slope) > noise; ++step, alpha *= 0.5) {
       trial = positions;
       applyStep(trial, direction, alpha);
       trialEnergy = fem_.energy(trial);
@@ -215,7 +232,7 @@ SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const Dirichle
       trial = positions;
       applyStep(trial, direction, 1.0);
       trialEnergy = fem_.energy(trial);
-      if (trialEnergy <= energy + energyNoise + 1e-12 * std::abs(energy)) {
+      if (trialEnergy <= energy + noise) {
         const Eigen::VectorXd full = fem_.gradient(trial);
         double norm2 = 0.0;
         for (int d : linear.freeDofs) norm2 += full[d] * full[d];

@@ -32,6 +32,7 @@ struct IterationRecord {
   double stepLength = 0.0;         ///< accepted line-search factor
   int lineSearchSteps = 0;         ///< halvings
   double regularisation = 0.0;     ///< diagonal shift that made the system positive definite (0 usually)
+  bool exactHessian = false;       ///< the step used the exact (not projected) Hessian
   double assemblySeconds = 0.0, factorSeconds = 0.0, lineSearchSeconds = 0.0;
   double elapsedSeconds = 0.0;     ///< since the solve began
 };
@@ -49,6 +50,9 @@ struct SolverSettings {
   double absoluteForceTolerance = -1.0;
   int maxLineSearchSteps = 40;
   double armijo = 1e-4;  ///< sufficient-decrease constant
+  /// Once |f| <= exactHessianBelow |f_0|, try the exact Hessian first (used only if its Cholesky
+  /// factorisation succeeds, i.e. it is positive definite); 0 = always the projected Hessian.
+  double exactHessianBelow = 1e-2;
   LinearSolverKind linearSolver = LinearSolverKind::Auto;
   std::function<void(const IterationRecord&)> callback;  ///< optional, called after each iteration
 };
