@@ -166,7 +166,8 @@ SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const Dirichle
   result.status = SolverStatus::MaxIterations;
   if (forceNorm <= result.forceTolerance) result.status = SolverStatus::Converged;
   Eigen::Matrix3Xd trial;
-  bool tryExact = settings_.exactHessianBelow > 0.0;
+  const bool tryExact = settings_.exactHessianBelow > 0.0;
+  double exactBelow = settings_.exactHessianBelow * result.initialForceNorm;
   while (result.status != SolverStatus::Converged && result.iterations < settings_.maxIterations) {
     if (secondsSince(start) > settings_.maxSeconds) {
       result.status = SolverStatus::TimeLimit;
@@ -185,7 +186,7 @@ SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const Dirichle
     // Close to a stable equilibrium the exact Hessian is positive definite and gives Newton's quadratic
     // convergence, which the projected one (exact only where every element is convex) loses. Try it once
     // the force is small; after the first failure stay with the projection for this solve.
-    if (tryExact && forceNorm <= settings_.exactHessianBelow * result.initialForceNorm) {
+    if (tryExact && forceNorm <= exactBelow) {
       if (linear.Hexact.nonZeros() != linear.H.nonZeros()) linear.Hexact = linear.H;
       fem_.assembleReduced(positions, map, true, HessianKind::Exact, linear.Hexact, nullptr);
       if (linear.factorize(linear.Hexact, 0.0)) {
@@ -193,7 +194,9 @@ SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const Dirichle
         factored = direction.allFinite() && direction.dot(g) < 0.0;
       }
       record.exactHessian = factored;
-      tryExact = factored;
+      // Not positive definite yet (e.g. still far from a stable state, or near a buckling point):
+      // try again once the force has dropped tenfold.
+      if (!factored) exactBelow = 0.1 * forceNorm;
     }
     for (double shift = 0.0; !factored && shift <= 1e3 * meanDiagonal;
          shift = shift == 0.0 ? 1e-10 * meanDiagonal : shift * 100.0) {

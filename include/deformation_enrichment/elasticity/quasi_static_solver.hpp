@@ -51,7 +51,8 @@ struct SolverSettings {
   int maxLineSearchSteps = 40;
   double armijo = 1e-4;  ///< sufficient-decrease constant
   /// Once |f| <= exactHessianBelow |f_0|, try the exact Hessian first (used only if its Cholesky
-  /// factorisation succeeds, i.e. it is positive definite); 0 = always the projected Hessian.
+  /// factorisation succeeds, i.e. it is positive definite; after a failure, again once |f| has dropped
+  /// tenfold); 0 = always the projected Hessian.
   double exactHessianBelow = 1e-2;
   LinearSolverKind linearSolver = LinearSolverKind::Auto;
   std::function<void(const IterationRecord&)> callback;  ///< optional, called after each iteration
