@@ -189,6 +189,7 @@ SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const Dirichle
     if (tryExact && forceNorm <= exactBelow) {
       if (linear.Hexact.nonZeros() != linear.H.nonZeros()) linear.Hexact = linear.H;
       fem_.assembleReduced(positions, map, true, HessianKind::Exact, linear.Hexact, nullptr);
+      ++result.factorizations;
       if (linear.factorize(linear.Hexact, 0.0)) {
         direction = linear.solve(-g);
         factored = direction.allFinite() && direction.dot(g) < 0.0;
@@ -200,6 +201,7 @@ SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const Dirichle
     }
     for (double shift = 0.0; !factored && shift <= 1e3 * meanDiagonal;
          shift = shift == 0.0 ? 1e-10 * meanDiagonal : shift * 100.0) {
+      ++result.factorizations;
       if (!linear.factorize(linear.H, shift)) continue;
       direction = linear.solve(-g);
       if (direction.allFinite() && direction.dot(g) < 0.0) {

@@ -68,6 +68,7 @@ struct SolveResult {
   double energy = 0.0;
   double seconds = 0.0;
   int freeDofs = 0;
+  int factorizations = 0;  ///< numeric Cholesky factorisations, including rejected (not positive definite) ones
   std::string message;  ///< human-readable summary; says why when not converged
   std::vector<IterationRecord> history;
 };
