@@ -31,7 +31,8 @@ public:
   /// Largest user mu over the materials (a stress scale for tolerances).
   double maxShearModulus() const;
 
-  /// F_t = Ds(x) Dm^-1 with Ds = [x1 - x0, x2 - x0, x3 - x0] (paper 001 eq. 2.1).
+  /// F_t = Ds(x) Dm^-1 with Ds = [x1 - x0, x2 - x0, x3 - x0], the constant deformation gradient of a linear
+/// tet (written column-wise as in paper 001 eq. 2.1).
   Eigen::Matrix3d deformationGradient(const Eigen::Matrix3Xd& x, Eigen::Index t) const;
 
   /// E(x) = sum_t V_t Psi(F_t). Returns +infinity (not an exception) for positions so extreme that a

@@ -1,5 +1,6 @@
-// Paper 001's stability stress tests on the quasi-static solver: crushed, collapsed, inverted, twisted and
-// randomly scrambled blocks must all return to the rest shape once released (bottom face held).
+// Paper 001's stabilities (§3.2.1: inversion, rest, meta-stability under degeneracy) as solver stress
+// tests: crushed, collapsed, inverted and twisted blocks return to the rest shape once released (bottom
+// face held); random scrambles never give NaN.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
