@@ -1,10 +1,12 @@
 #include "deformation_enrichment/elasticity/stable_neo_hookean.hpp"
 
-#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <string>
 
+#include "deformation_enrichment/elasticity/symmetric_eigen3.hpp"
 #include "deformation_enrichment/error.hpp"
 
 namespace deformation_enrichment::elasticity {
@@ -155,13 +157,10 @@ Matrix9d StableNeoHookean::hessian(const Eigen::Matrix3d& F) const {
   return H;
 }
 
-SnhEigensystem StableNeoHookean::eigensystem(const Eigen::Matrix3d& F) const {
-  checkFinite(F, "eigensystem");
-  const RotationVariantSvd svd = rotationVariantSvd(F);
-  const Eigen::Vector3d& sig = svd.sigma;
-  const Coefficients k = coefficients(sig.squaredNorm(), sig.prod());
-  SnhEigensystem es;
-  // Scaling modes: the 3x3 block on vec(U diag(d) V^T), solved small (Smith et al. 2018 §4.3).
+Eigen::Matrix3d StableNeoHookean::scalingBlock(const Eigen::Vector3d& sig, const Coefficients& k) const {
+  // The Hessian restricted to D = diag(d): a I + b sigma sigma^T + lambda' c c^T + lambda'(J - alpha) S,
+  // with c = dJ/dsigma = (s1 s2, s0 s2, s0 s1) and S_ij = sigma_k (i != j), the volume Hessian's diagonal
+  // part, since d^2 det(Sigma + D) = 2 sum_{i<j} sigma_k (d_i d_j - D_ij D_ji).
   const Eigen::Vector3d c(sig(1) * sig(2), sig(0) * sig(2), sig(0) * sig(1));
   Eigen::Matrix3d A = k.b * sig * sig.transpose() + lambdaPrime_ * c * c.transpose();
   A.diagonal().array() += k.a;
@@ -169,12 +168,23 @@ SnhEigensystem StableNeoHookean::eigensystem(const Eigen::Matrix3d& F) const {
     A(kPairI[m], kPairJ[m]) += k.s * sig(m);
     A(kPairJ[m], kPairI[m]) += k.s * sig(m);
   }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(A);
+  return A;
+}
+
+SnhEigensystem StableNeoHookean::eigensystem(const Eigen::Matrix3d& F) const {
+  checkFinite(F, "eigensystem");
+  const RotationVariantSvd svd = rotationVariantSvd(F);
+  const Eigen::Vector3d& sig = svd.sigma;
+  const Coefficients k = coefficients(sig.squaredNorm(), sig.prod());
+  SnhEigensystem es;
+  // Scaling modes: the 3x3 block on vec(U diag(d) V^T), solved small (Smith et al. 2018 §4.3).
+  const SymmetricEigen3 eig = symmetricEigen3(scalingBlock(sig, k));
   Eigen::Matrix<double, 9, 3> W;
   for (int m = 0; m < 3; ++m) W.col(m) = outerVec(svd.U, m, svd.V, m);
-  es.values.head<3>() = eig.eigenvalues();
-  es.vectors.leftCols<3>() = W * eig.eigenvectors();
-  // Twist (antisymmetric) and flip (symmetric) modes of pair (i, j): a ± lambda'(J - alpha) sigma_k.
+  es.values.head<3>() = eig.values;
+  es.vectors.leftCols<3>() = W * eig.vectors;
+  // Twist (antisymmetric) and flip (symmetric) modes of pair (i, j): on (D_ij, D_ji) the Hessian is
+  // [[a, -s sigma_k], [-s sigma_k, a]] (same expansion of det), eigenvalues a ± lambda'(J - alpha) sigma_k.
   const double r = std::sqrt(0.5);
   for (int m = 0; m < 3; ++m) {
     const Vector9d wij = outerVec(svd.U, kPairI[m], svd.V, kPairJ[m]);
@@ -193,44 +203,39 @@ Matrix9d StableNeoHookean::projectedHessian(const Eigen::Matrix3d& F) const {
 }
 
 Matrix9d StableNeoHookean::projectedHessian(const Eigen::Matrix3d& F, const RotationVariantSvd& svd) const {
-  // H_+ = H - sum over negative modes of lambda_i q_i q_i^T: only the (few) negative modes are formed.
-  Matrix9d H = hessian(F);
+  checkFinite(F, "projectedHessian");
+  // H_+ = K D_+ K^T with K = V (x) U (column r + 3c is vec(u_r v_c^T)) and D_+ the clamped Hessian in the
+  // singular basis: the scaling block on the diagonal entries D_mm and one 2x2 block per (D_ij, D_ji)
+  // pair (twist/flip modes). Built from the eigensystem alone, H_+ is PSD to rounding even where the
+  // exact Hessian evaluated from F suffers cancellation (huge, nearly flat elements).
   const Eigen::Vector3d& sig = svd.sigma;
   const Coefficients k = coefficients(sig.squaredNorm(), sig.prod());
-  const double r = std::sqrt(0.5);
-  for (int m = 0; m < 3; ++m) {
-    const double twist = k.a + k.s * sig(m);
-    const double flip = k.a - k.s * sig(m);
-    if (twist >= 0.0 && flip >= 0.0) continue;
-    const Vector9d wij = outerVec(svd.U, kPairI[m], svd.V, kPairJ[m]);
-    const Vector9d wji = outerVec(svd.U, kPairJ[m], svd.V, kPairI[m]);
-    if (twist < 0.0) {
-      const Vector9d q = r * (wij - wji);
-      H.noalias() -= twist * q * q.transpose();
-    }
-    if (flip < 0.0) {
-      const Vector9d q = r * (wij + wji);
-      H.noalias() -= flip * q * q.transpose();
-    }
-  }
-  // Scaling block (Smith et al. 2018 §4.3): skip the 3x3 eigensolve when it is positive definite.
-  const Eigen::Vector3d c(sig(1) * sig(2), sig(0) * sig(2), sig(0) * sig(1));
-  Eigen::Matrix3d A = k.b * sig * sig.transpose() + lambdaPrime_ * c * c.transpose();
-  A.diagonal().array() += k.a;
-  for (int m = 0; m < 3; ++m) {
-    A(kPairI[m], kPairJ[m]) += k.s * sig(m);
-    A(kPairJ[m], kPairI[m]) += k.s * sig(m);
-  }
+  Matrix9d K;
+  for (int m = 0; m < 3; ++m)
+    for (int c = 0; c < 3; ++c) K.block<3, 3>(3 * m, 3 * c) = svd.V(m, c) * svd.U;
+  Matrix9d X;  // K D_+
+  // Scaling block (Smith et al. 2018 §4.3): clamp only if Sylvester's criterion says it is not PD.
+  Eigen::Matrix3d A = scalingBlock(sig, k);
   const double minor2 = A(0, 0) * A(1, 1) - A(0, 1) * A(0, 1);
-  if (A(0, 0) > 0.0 && minor2 > 0.0 && A.determinant() > 0.0) return H;  // Sylvester's criterion
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(A);
-  for (int e = 0; e < 3; ++e) {
-    const double value = eig.eigenvalues()(e);
-    if (value >= 0.0) break;  // ascending order
-    Vector9d q = Vector9d::Zero();
-    for (int m = 0; m < 3; ++m) q += eig.eigenvectors()(m, e) * outerVec(svd.U, m, svd.V, m);
-    H.noalias() -= value * q * q.transpose();
+  if (!(A(0, 0) > 0.0 && minor2 > 0.0 && A.determinant() > 0.0)) {
+    const SymmetricEigen3 eig = symmetricEigen3(A);
+    A = eig.vectors * eig.values.cwiseMax(0.0).asDiagonal() * eig.vectors.transpose();
   }
+  for (int n = 0; n < 3; ++n) X.col(4 * n) = K.col(0) * A(0, n) + K.col(4) * A(1, n) + K.col(8) * A(2, n);
+  // Twist (antisymmetric, a + s sigma_k) and flip (symmetric, a - s sigma_k) modes of pair (i, j): the
+  // clamped 2x2 block is [[p, q], [q, p]] with p = (twist+ + flip+) / 2, q = (flip+ - twist+) / 2.
+  for (int m = 0; m < 3; ++m) {
+    const double twist = std::max(k.a + k.s * sig(m), 0.0);
+    const double flip = std::max(k.a - k.s * sig(m), 0.0);
+    const double p = 0.5 * (twist + flip);
+    const double q = 0.5 * (flip - twist);
+    const int ij = kPairI[m] + 3 * kPairJ[m];
+    const int ji = kPairJ[m] + 3 * kPairI[m];
+    X.col(ij) = p * K.col(ij) + q * K.col(ji);
+    X.col(ji) = q * K.col(ij) + p * K.col(ji);
+  }
+  Matrix9d H;
+  H.noalias() = X.lazyProduct(K.transpose());
   return H;
 }
 

@@ -14,7 +14,8 @@ struct RotationVariantSvd {
 };
 
 /// Throws InvalidInputError if F has a non-finite entry. Well defined for F = 0 and rank-deficient F
-/// (U, V are then some rotations completing the null space).
+/// (U, V are then some rotations completing the null space). Singular values are sorted by magnitude up to
+/// rounding at (near-)ties.
 RotationVariantSvd rotationVariantSvd(const Eigen::Matrix3d& F);
 
 }  // namespace deformation_enrichment::elasticity

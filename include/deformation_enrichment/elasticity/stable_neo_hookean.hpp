@@ -54,9 +54,11 @@ public:
   Eigen::Matrix3d pk1(const Eigen::Matrix3d& F) const;
   /// Exact Hessian d^2 Psi / d vec(F)^2 (may be indefinite).
   Matrix9d hessian(const Eigen::Matrix3d& F) const;
-  /// Hessian with negative eigenvalues clamped to zero, from the analytic eigensystem (no 9x9 eigensolve).
+  /// Hessian with negative eigenvalues clamped to zero, assembled from the analytic eigensystem (twist and
+  /// flip modes in closed form, 3x3 scaling block solved small; no 9x9 eigensolve). Symmetric PSD to
+  /// rounding for every finite F, including F = 0, repeated or zero singular values and inversions.
   Matrix9d projectedHessian(const Eigen::Matrix3d& F) const;
-  /// Same, reusing a rotation-variant SVD of F that the caller already has.
+  /// Same, reusing svd = rotationVariantSvd(F) that the caller already has (not re-checked).
   Matrix9d projectedHessian(const Eigen::Matrix3d& F, const RotationVariantSvd& svd) const;
   /// Full analytic eigensystem (for analysis and tests; the projection does not need the 9x9 vectors).
   SnhEigensystem eigensystem(const Eigen::Matrix3d& F) const;
@@ -76,6 +78,8 @@ private:
     double s;  ///< lambda' (J - alpha): coefficient of cof F in PK1 and of the volume Hessian
   };
   Coefficients coefficients(double Ic, double J) const;
+  /// Hessian block of the scaling modes in the basis vec(u_m v_m^T), m = 0..2.
+  Eigen::Matrix3d scalingBlock(const Eigen::Vector3d& sigma, const Coefficients& k) const;
   void checkFinite(const Eigen::Matrix3d& F, const char* where) const;
 
   SnhVariant variant_;

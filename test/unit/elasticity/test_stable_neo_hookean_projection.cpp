@@ -54,6 +54,8 @@ std::vector<Eigen::Matrix3d> degenerateGradients() {
   out.push_back(R * Eigen::Vector3d(1e3, 1.0, 1.0).asDiagonal());                        // huge stretch
   out.push_back(R * Eigen::Vector3d(1e6, 1e6, 1e-6).asDiagonal() * R.transpose());      // huge, flat
   out.push_back(Eigen::Vector3d(1e-9, 1e-9, -1e-9).asDiagonal().toDenseMatrix());       // crushed to a point
+  out.push_back(Eigen::Vector3d(1e25, 1.0, -1e-25).asDiagonal().toDenseMatrix());      // extreme, inverted
+  out.push_back(R * Eigen::Vector3d(1e-200, 0.0, 0.0).asDiagonal());                     // underflow range
   out.push_back(Eigen::Matrix3d::Identity());
   return out;
 }
@@ -117,9 +119,64 @@ TEST(SnhProjection, DegenerateAndExtremeStatesAreFinitePsdAndExact) {
       ASSERT_TRUE(P.allFinite()) << "F=\n" << F;
       const SnhEigensystem es = snh.eigensystem(F);
       ASSERT_TRUE(es.values.allFinite() && es.vectors.allFinite());
-      EXPECT_LE((P - numericalClamp(H)).norm(), 1e-10 * H.norm()) << "F=\n" << F;
+      EXPECT_LE((P - numericalClamp(H)).stableNorm(), 1e-10 * H.stableNorm()) << "F=\n" << F;
       const double minEig = Eigen::SelfAdjointEigenSolver<Matrix9d>(P, Eigen::EigenvaluesOnly).eigenvalues()(0);
-      EXPECT_GE(minEig, -1e-12 * P.norm()) << "F=\n" << F;
+      EXPECT_GE(minEig, -1e-12 * P.stableNorm()) << "F=\n" << F;
+    }
+  }
+}
+
+TEST(SnhProjection, HugeRotatedStatesStayPsd) {
+  // F = R diag(1e25, 1, -1e-25) R^T: rounding F to doubles already changes its small singular values by
+  // ~1e9, and the cofactor evaluated from F cancels to O(1) relative error, so the exact Hessian from F is
+  // no usable reference here. The projection is built from the eigensystem alone and must stay PSD.
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  for (SnhVariant variant : kVariants) {
+    const StableNeoHookean snh(1.0, 10.0, variant);
+    for (double big : {1e8, 1e15, 1e25}) {
+      const Eigen::Matrix3d F = R * Eigen::Vector3d(big, 1.0, -1.0 / big).asDiagonal() * R.transpose();
+      const Matrix9d P = snh.projectedHessian(F);
+      ASSERT_TRUE(P.allFinite());
+      EXPECT_LT((P - P.transpose()).norm(), 1e-14 * P.norm());
+      const double minEig = Eigen::SelfAdjointEigenSolver<Matrix9d>(P, Eigen::EigenvaluesOnly).eigenvalues()(0);
+      EXPECT_GE(minEig, -1e-12 * P.norm()) << "stretch " << big;
+    }
+  }
+}
+
+TEST(SnhProjection, StructuredStatesWithRepeatedSingularValues) {
+  // Uniform and axisymmetric scalings (and their reflections) give repeated singular values and repeated
+  // scaling-block eigenvalues, including ones that cross zero as the scale factor sweeps through.
+  for (SnhVariant variant : kVariants) {
+    const StableNeoHookean snh(1.0, 4.0, variant);
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(0.5, Eigen::Vector3d(1, 3, -2).normalized()).toRotationMatrix();
+    for (double a = -1.5; a <= 1.5; a += 0.01) {
+      for (const Eigen::Vector3d& sigma : {Eigen::Vector3d(a, a, a), Eigen::Vector3d(a, a, 1.0), Eigen::Vector3d(1.0, 1.0, a),
+                                           Eigen::Vector3d(a, a, 0.0)}) {
+        const Eigen::Matrix3d F = R * sigma.asDiagonal() * R.transpose();
+        const Matrix9d H = snh.hessian(F);
+        EXPECT_LE((snh.projectedHessian(F) - numericalClamp(H)).norm(), 1e-10 * H.norm())
+            << "sigma " << sigma.transpose();
+      }
+    }
+  }
+}
+
+TEST(SnhProjection, RandomScalesSweepStaysFiniteAndExact) {
+  // Entries of random sign and magnitude 1e-6..1e6 (graded, nearly singular and huge elements).
+  std::mt19937 rng(24);
+  std::uniform_real_distribution<double> exponent(-6.0, 6.0);
+  std::bernoulli_distribution negative(0.5);
+  for (SnhVariant variant : kVariants) {
+    const StableNeoHookean snh(1.0, 100.0, variant);
+    for (int n = 0; n < 1000; ++n) {
+      Eigen::Matrix3d F;
+      for (int e = 0; e < 9; ++e) F.data()[e] = (negative(rng) ? -1.0 : 1.0) * std::pow(10.0, exponent(rng));
+      if (n % 2 == 1) F.col(n % 3) *= 1e-6;  // nearly flat element
+      const Matrix9d H = snh.hessian(F);
+      const Matrix9d P = snh.projectedHessian(F);
+      ASSERT_TRUE(P.allFinite()) << "F=\n" << F;
+      EXPECT_LE((P - numericalClamp(H)).norm(), 1e-10 * H.norm()) << "F=\n" << F;
     }
   }
 }
