@@ -55,6 +55,7 @@ struct QuasiStaticSolver::Linear {
     if (map.size() == dofMap.size() && map == dofMap) return;
     dofMap = map;
     H = fem.reducedPattern(dofMap, true);
+    Hexact = Eigen::SparseMatrix<double>();  // pattern changed: rebuilt from H on first use
     freeDofs.assign(static_cast<std::size_t>(H.cols()), 0);
     for (Eigen::Index d = 0; d < dofMap.size(); ++d)
       if (dofMap[d] >= 0) freeDofs[static_cast<std::size_t>(dofMap[d])] = static_cast<int>(d);
@@ -185,9 +186,9 @@ SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const Dirichle
     bool factored = false;
     // Close to a stable equilibrium the exact Hessian is positive definite and gives Newton's quadratic
     // convergence, which the projected one (exact only where every element is convex) loses. Try it once
-    // the force is small; after the first failure stay with the projection for this solve.
+    // the force is small; when it is indefinite, fall back to the projection below.
     if (tryExact && forceNorm <= exactBelow) {
-      if (linear.Hexact.nonZeros() != linear.H.nonZeros()) linear.Hexact = linear.H;
+      if (linear.Hexact.rows() != linear.H.rows()) linear.Hexact = linear.H;
       fem_.assembleReduced(positions, map, true, HessianKind::Exact, linear.Hexact, nullptr);
       ++result.factorizations;
       if (linear.factorize(linear.Hexact, 0.0)) {
