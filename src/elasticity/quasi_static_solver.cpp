@@ -168,6 +168,8 @@ SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const Dirichle
   if (forceNorm <= result.forceTolerance) result.status = SolverStatus::Converged;
   Eigen::Matrix3Xd trial;
   const bool tryExact = settings_.exactHessianBelow > 0.0;
+  bool hessianCurrent = true;  // linear.H holds the projected Hessian at `positions`
+  bool reuseNext = false;      // next direction from the current factorisation (chord step)
   double exactBelow = settings_.exactHessianBelow * result.initialForceNorm;
   while (result.status != SolverStatus::Converged && result.iterations < settings_.maxIterations) {
     if (secondsSince(start) > settings_.maxSeconds) {
@@ -176,41 +178,56 @@ SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const Dirichle
     }
     IterationRecord record;
     record.iteration = result.iterations + 1;
-    // Newton direction on the projected (PSD) Hessian; a diagonal shift only when the factorisation
-    // reports it is not positive definite (fully crushed tets can make it singular).
     Clock::time_point phase = Clock::now();
-    double meanDiagonal = 0.0;
-    for (Eigen::Index i : linear.diagonal) meanDiagonal += std::abs(linear.H.valuePtr()[i]);
-    meanDiagonal = std::max(meanDiagonal / static_cast<double>(linear.diagonal.size()), std::numeric_limits<double>::min());
     Eigen::VectorXd direction;
     bool factored = false;
-    // Close to a stable equilibrium the exact Hessian is positive definite and gives Newton's quadratic
-    // convergence, which the projected one (exact only where every element is convex) loses. Try it once
-    // the force is small; when it is indefinite, fall back to the projection below.
-    if (tryExact && forceNorm <= exactBelow) {
-      if (linear.Hexact.rows() != linear.H.rows()) linear.Hexact = linear.H;
-      fem_.assembleReduced(positions, map, true, HessianKind::Exact, linear.Hexact, nullptr);
-      ++result.factorizations;
-      if (linear.factorize(linear.Hexact, 0.0)) {
-        direction = linear.solve(-g);
-        factored = direction.allFinite() && direction.dot(g) < 0.0;
-      }
-      record.exactHessian = factored;
-      // Not positive definite yet (e.g. still far from a stable state, or near a buckling point):
-      // try again once the force has dropped tenfold.
-      if (!factored) exactBelow = 0.1 * forceNorm;
-    }
-    for (double shift = 0.0; !factored && shift <= 1e3 * meanDiagonal;
-         shift = shift == 0.0 ? 1e-10 * meanDiagonal : shift * 100.0) {
-      ++result.factorizations;
-      if (!linear.factorize(linear.H, shift)) continue;
+    // Chord step: while Newton steps contract the force strongly, the previous factorisation still
+    // gives a good direction for the price of a triangular solve (factorising dominates on large meshes).
+    if (reuseNext) {
       direction = linear.solve(-g);
-      if (direction.allFinite() && direction.dot(g) < 0.0) {
-        record.regularisation = shift;
-        factored = true;
+      factored = direction.allFinite() && direction.dot(g) < 0.0;
+      record.reusedFactorization = factored;
+    }
+    if (!factored) {
+      if (!hessianCurrent) {
+        const Clock::time_point assembly = Clock::now();
+        fem_.assembleReduced(positions, map, true, HessianKind::Projected, linear.H, nullptr);
+        record.assemblySeconds += secondsSince(assembly);
+        hessianCurrent = true;
+      }
+      // Newton direction on the projected (PSD) Hessian; a diagonal shift only when the factorisation
+      // reports it is not positive definite (fully crushed tets can make it singular).
+      double meanDiagonal = 0.0;
+      for (Eigen::Index i : linear.diagonal) meanDiagonal += std::abs(linear.H.valuePtr()[i]);
+      meanDiagonal = std::max(meanDiagonal / static_cast<double>(linear.diagonal.size()), std::numeric_limits<double>::min());
+      // Close to a stable equilibrium the exact Hessian is positive definite and gives Newton's quadratic
+      // convergence, which the projected one (exact only where every element is convex) loses. Try it once
+      // the force is small; when it is indefinite, fall back to the projection below.
+      if (tryExact && forceNorm <= exactBelow) {
+        if (linear.Hexact.rows() != linear.H.rows()) linear.Hexact = linear.H;
+        fem_.assembleReduced(positions, map, true, HessianKind::Exact, linear.Hexact, nullptr);
+        ++result.factorizations;
+        if (linear.factorize(linear.Hexact, 0.0)) {
+          direction = linear.solve(-g);
+          factored = direction.allFinite() && direction.dot(g) < 0.0;
+        }
+        record.exactHessian = factored;
+        // Not positive definite yet (e.g. still far from a stable state, or near a buckling point):
+        // try again once the force has dropped tenfold.
+        if (!factored) exactBelow = 0.1 * forceNorm;
+      }
+      for (double shift = 0.0; !factored && shift <= 1e3 * meanDiagonal;
+           shift = shift == 0.0 ? 1e-10 * meanDiagonal : shift * 100.0) {
+        ++result.factorizations;
+        if (!linear.factorize(linear.H, shift)) continue;
+        direction = linear.solve(-g);
+        if (direction.allFinite() && direction.dot(g) < 0.0) {
+          record.regularisation = shift;
+          factored = true;
+        }
       }
     }
-    record.factorSeconds = secondsSince(phase);
+    record.factorSeconds = secondsSince(phase) - record.assemblySeconds;
     if (!factored) {
       result.status = SolverStatus::LinearSolverFailed;
       break;
@@ -249,6 +266,10 @@ SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const Dirichle
       }
     }
     record.lineSearchSeconds = secondsSince(phase);
+    if (!accepted && record.reusedFactorization) {
+      reuseNext = false;  // the stale direction was poor: retry with a fresh factorisation
+      continue;
+    }
     if (!accepted) {
       result.status = SolverStatus::LineSearchFailed;
       break;
@@ -256,9 +277,13 @@ SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const Dirichle
     positions.swap(trial);
     energy = trialEnergy;
     phase = Clock::now();
-    fem_.assembleReduced(positions, map, true, HessianKind::Projected, linear.H, &g);
-    record.assemblySeconds = secondsSince(phase);
+    const Eigen::VectorXd full = fem_.gradient(positions);
+    for (std::size_t r = 0; r < linear.freeDofs.size(); ++r) g[static_cast<Eigen::Index>(r)] = full[linear.freeDofs[r]];
+    hessianCurrent = false;
+    record.assemblySeconds += secondsSince(phase);
+    const double previousForceNorm = forceNorm;
     forceNorm = g.norm();
+    reuseNext = settings_.reuseContraction > 0.0 && alpha == 1.0 && forceNorm <= settings_.reuseContraction * previousForceNorm;
     ++result.iterations;
     record.energy = energy;
     record.forceNorm = forceNorm;

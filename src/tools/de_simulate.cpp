@@ -161,7 +161,7 @@ int main(int argc, char** argv) {
         iterations.push_back({{"iteration", record.iteration}, {"energy", record.energy}, {"force_norm", record.forceNorm},
                               {"relative_force_norm", record.relativeForceNorm}, {"step_length", record.stepLength},
                               {"line_search_steps", record.lineSearchSteps}, {"regularisation", record.regularisation},
-                              {"exact_hessian", record.exactHessian},
+                              {"exact_hessian", record.exactHessian}, {"reused_factorization", record.reusedFactorization},
                               {"assembly_s", record.assemblySeconds}, {"factor_solve_s", record.factorSeconds},
                               {"line_search_s", record.lineSearchSeconds}, {"elapsed_s", record.elapsedSeconds}});
       log["steps"].push_back({{"step", step}, {"tool_displacement", toJson(displacement)},

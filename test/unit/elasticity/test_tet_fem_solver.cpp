@@ -154,7 +154,9 @@ TEST(QuasiStaticSolver, PrescribedTopMatchesLinearElasticityForSmallStretch) {
   const SolveResult result = solver.solve(x, constraints);
   ASSERT_TRUE(result.converged()) << result.message;
   ASSERT_FALSE(energies.empty());
-  for (std::size_t k = 1; k < energies.size(); ++k) EXPECT_LE(energies[k], energies[k - 1]);
+  // Monotone up to the round-off of E (steps below it are accepted on the force norm instead).
+  const double roundOff = 1e-14 * block.fem.maxShearModulus() * block.fem.restVolumes().sum();
+  for (std::size_t k = 1; k < energies.size(); ++k) EXPECT_LE(energies[k], energies[k - 1] * (1 + 1e-12) + roundOff);
   const Eigen::VectorXd g = block.fem.gradient(x);
   double reaction = 0.0;
   for (int v : top) reaction += g[3 * v + 2];
