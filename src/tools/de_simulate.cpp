@@ -58,16 +58,16 @@ int main(int argc, char** argv) {
   std::string sceneName = "slab", tetgenBase, outDir = "de_simulate_out", variantName = "paper", solverName = "auto";
   std::string mode = "indent";
   std::vector<int> cells;
-  double skinThickness = 0.001, bulkYoung = 1e4, bulkPoisson = 0.45, skinYoung = 1e6, skinPoisson = 0.3;
-  int skinLayers = 1, steps = 10, indentSteps = 4, maxIterations = 100;
+  double skinThickness = 0.0, bulkYoung = 1e4, bulkPoisson = 0.45, skinYoung = 1e6, skinPoisson = 0.3;
+  int skinLayers = 0, steps = 10, indentSteps = 4, maxIterations = 100;
   std::vector<double> point{0.0, 0.0}, indentDirection{0.0, 0.0, -1.0}, dragDirection{1.0, 0.0, 0.0};
   double toolRadius = 0.004, depth = 0.004, dragDistance = 0.01, tolerance = 1e-8, maxSeconds = 600.0, fixTolerance = 1e-6;
   app.add_option("--scene", sceneName, "slab | pillow | meniscus")->check(CLI::IsMember({"slab", "pillow", "meniscus"}));
   app.add_option("--tetgen", tetgenBase, "read <base>.node/.ele instead (lowest z fixed, highest z is the top)");
   app.add_option("--fix-tolerance", fixTolerance, "TetGen scenes: z tolerance of the support and top layers (m)");
   app.add_option("--cells", cells, "cells: first, second surface direction, bulk thickness (3 integers)")->expected(3);
-  app.add_option("--skin-thickness", skinThickness, "skin thickness in m (0 = no skin)");
-  app.add_option("--skin-layers", skinLayers, "cell layers through the skin");
+  auto* skinThicknessOption = app.add_option("--skin-thickness", skinThickness, "skin thickness in m (0 = no skin; default: the scene's)");
+  auto* skinLayersOption = app.add_option("--skin-layers", skinLayers, "cell layers through the skin (default: the scene's)");
   app.add_option("--bulk-young", bulkYoung, "bulk Young's modulus (Pa)");
   app.add_option("--bulk-poisson", bulkPoisson, "bulk Poisson ratio");
   app.add_option("--skin-young", skinYoung, "skin Young's modulus (Pa)");
@@ -97,8 +97,8 @@ int main(int argc, char** argv) {
       scenes::Layering layering;
       if (sceneName == "meniscus") layering = scenes::MeniscusOptions().layering;
       if (!cells.empty()) layering.cells = Eigen::Vector3i(cells[0], cells[1], cells[2]);
-      layering.skinThickness = skinThickness;
-      layering.skinLayers = skinLayers;
+      if (skinThicknessOption->count()) layering.skinThickness = skinThickness;
+      if (skinLayersOption->count()) layering.skinLayers = skinLayers;
       if (sceneName == "slab") {
         scenes::SlabOptions options;
         options.layering = layering;
