@@ -15,7 +15,7 @@ int run(const std::string& arguments) { return std::system((kTool + " " + argume
 }  // namespace
 
 TEST(DeSimulateCli, DragWritesSurfacesAndLog) {
-  if (!std::filesystem::exists(kTool)) GTEST_SKIP() << "build the de_simulate target first: " << kTool;
+  ASSERT_TRUE(std::filesystem::exists(kTool)) << "de_simulate not found at " << kTool;
   const std::string out = testing::TempDir() + "de_simulate_cli_" + std::to_string(::getpid());
   std::filesystem::remove_all(out);
   ASSERT_EQ(run("--scene slab --cells 8 8 2 --mode drag --indent-steps 2 --steps 2 --depth 0.002 "
