@@ -16,8 +16,8 @@ struct TetGenMesh {
 
 /// Reads `<base>.node` and `<base>.ele`. Index base (0 or 1) follows the first point's index, as TetGen
 /// does. Comments (#) and blank lines are skipped; 10-node tets keep their four corners. Tets with
-/// negative volume are reoriented (TetGen's orientation convention differs between versions and
-/// exporters); zero-volume tets, missing or non-numeric fields, non-finite coordinates, duplicate or
+/// negative volume are reoriented (TetGen 1.5 writes positive ones, as test/data/tetgen shows, but
+/// other versions and exporters differ); zero-volume tets, missing or non-numeric fields, non-finite coordinates, duplicate or
 /// out-of-range indices throw IoError naming the file and line.
 TetGenMesh readTetGen(const std::string& base);
 

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <unistd.h>
 #include <fstream>
 #include <string>
 
@@ -88,4 +89,18 @@ TEST(TetGenIo, WriteRejectsBadRegionAndPath) {
   const mesh::TetMesh grid = mesh::gridTetMesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), Eigen::Vector3i(1, 1, 1));
   EXPECT_THROW(mesh::writeTetGen(tempBase("bad"), grid, Eigen::VectorXi::Zero(2)), InvalidInputError);
   EXPECT_THROW(mesh::writeTetGen("/nonexistent_dir/x", grid), IoError);
+}
+
+TEST(TetGenIo, ReadsRealTetGenOutput) {
+  // A 2 x 2 x 1 cm box meshed by Debian's tetgen 1.5.0 (1-based indices, its own orientation convention).
+  const mesh::TetGenMesh read = mesh::readTetGen(std::string(DE_SOURCE_DIR) + "/test/data/tetgen/box.1");
+  EXPECT_EQ(read.mesh.numVertices(), 46);
+  EXPECT_EQ(read.mesh.numTets(), 80);
+  EXPECT_NO_THROW(mesh::validate(read.mesh));
+  double volume = 0.0;
+  for (Eigen::Index t = 0; t < read.mesh.numTets(); ++t) volume += mesh::signedVolume(read.mesh, t);
+  EXPECT_NEAR(volume, 0.02 * 0.02 * 0.01, 1e-18);
+  // TetGen writes every tet with the same orientation: either all or none needed flipping.
+  EXPECT_TRUE(read.reorientedTets == 0 || read.reorientedTets == 80) << read.reorientedTets;
+  std::printf("tetgen tets reoriented: %d of 80\n", read.reorientedTets);
 }
