@@ -23,11 +23,12 @@ int main(int argc, char** argv) {
   CLI::App app{"Held-out error of coarse vs enriched surfaces against the fine simulation"};
   std::string sceneName = "slab", setPath, contactsPath;
   bool asJson = false, noFit = false;
-  double gain = 1.0;
+  double gain = 1.0, rimBand = 0.2;
   app.add_option("--scene", sceneName, "scene (slab)")->check(CLI::IsMember({"slab"}));
   app.add_option("--examples", setPath, "example set directory (de_make_examples)")->required();
   app.add_option("--contacts", contactsPath, "CSV x,y,z,depth,dx,dy,dz per held-out interaction (default: built-in)");
   app.add_option("--gain", gain, "stamp gain");
+  app.add_option("--rim-band", rimBand, "StampMapper rim band in [0, 1)");
   app.add_flag("--no-fit", noFit, "keep default kernel widths instead of the leave-one-out fit");
   app.add_flag("--json", asJson, "print JSON (always on; kept for the documented command line)");
   CLI11_PARSE(app, argc, argv);
@@ -38,6 +39,7 @@ int main(int argc, char** argv) {
     const auto scale = set.metadata.material.find("window_scale_m");
     if (scale != set.metadata.material.end()) options.enricher.descriptors.window.scale = scale->second;  // as acquired
     options.enricher.stampGain = gain;
+    options.enricher.rimBand = rimBand;
     acquisition::SlabAcquisition acq(options);
     enrichment::ExampleBlenderOptions blenderOptions;
     blenderOptions.fitWidths = !noFit && set.examples.size() >= 2;
