@@ -134,6 +134,22 @@ void writePlan(const std::string& path, const std::vector<PlanEntry>& plan) {
   if (!out) throw IoError(path + ": failed while writing");
 }
 
+void applyResolutionMetadata(const std::map<std::string, double>& material, SlabAcquisitionOptions& options) {
+  const auto get = [&](const char* key, int& value) {
+    const auto it = material.find(key);
+    if (it != material.end()) value = static_cast<int>(std::lround(it->second));
+  };
+  get("coarse_cells_x", options.coarse.cells.x());
+  get("coarse_cells_y", options.coarse.cells.y());
+  get("coarse_cells_z", options.coarse.cells.z());
+  get("fine_cells_x", options.fine.cells.x());
+  get("fine_cells_y", options.fine.cells.y());
+  get("fine_cells_z", options.fine.cells.z());
+  get("fine_skin_layers", options.fine.skinLayers);
+  const auto h = material.find("window_scale_m");
+  if (h != material.end()) options.enricher.descriptors.window.scale = h->second;
+}
+
 std::vector<PlanEntry> defaultSlabPlan() {
   return {entry(0.0, 0.0, 0.003, 0.0, 0.0),        entry(0.015, 0.0, 0.003, 0.005, 0.0),
           entry(-0.015, 0.01, 0.004, 0.0, 0.005),   entry(0.01, -0.015, 0.002, -0.004, 0.0),
@@ -182,7 +198,11 @@ std::map<std::string, double> SlabAcquisition::materialMetadata() const {
   return {{"bulk_young_pa", options_.bulkYoung}, {"bulk_poisson", options_.bulkPoisson},
           {"skin_young_pa", options_.skinYoung}, {"skin_poisson", options_.skinPoisson},
           {"skin_thickness_m", options_.fine.skinThickness}, {"tool_radius_m", options_.toolRadius},
-          {"window_scale_m", options_.enricher.descriptors.window.scale}};
+          {"window_scale_m", options_.enricher.descriptors.window.scale},
+          {"coarse_cells_x", options_.coarse.cells.x()}, {"coarse_cells_y", options_.coarse.cells.y()},
+          {"coarse_cells_z", options_.coarse.cells.z()}, {"fine_cells_x", options_.fine.cells.x()},
+          {"fine_cells_y", options_.fine.cells.y()}, {"fine_cells_z", options_.fine.cells.z()},
+          {"fine_skin_layers", options_.fine.skinLayers}};
 }
 
 enrichment::Contact SlabAcquisition::contactOf(const PlanEntry& entry) {

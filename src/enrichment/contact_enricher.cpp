@@ -70,7 +70,16 @@ void ContactEnricher::setExamples(const examples::ExampleSet& set, const Example
   if (std::abs(blender->stampRadius() - options_.stampRadius) > 1e-9 * options_.stampRadius)
     throw InvalidInputError("contact enricher: example stamp radius " + std::to_string(blender->stampRadius()) +
                             " m differs from the configured " + std::to_string(options_.stampRadius) + " m");
-  blender_ = std::move(blender);  // only now: a rejected set leaves the previous one active
+  std::vector<cv::Mat> stamps;
+  Eigen::VectorXd muNorms(static_cast<Eigen::Index>(set.examples.size()));
+  for (std::size_t i = 0; i < set.examples.size(); ++i) {
+    stamps.push_back(set.examples[i].stamp.clone());
+    muNorms(static_cast<Eigen::Index>(i)) = set.examples[i].mu.values().norm();
+  }
+  // Only now: a rejected set leaves the previous one active.
+  blender_ = std::move(blender);
+  stamps_ = std::move(stamps);
+  muNorms_ = std::move(muNorms);
 }
 
 void ContactEnricher::setStampGain(double gain) {
@@ -155,6 +164,13 @@ void ContactEnricher::enrich(const Eigen::Matrix3Xd& current, const std::vector<
     stamp.frame = outcome.description.B;
     stamp.rotation = outcome.description.R;
     stamp.radius = blender_->stampRadius();
+    if (options_.magnitudeAware) {
+      // Psi = sum_i w~_i (|mu| / |mu[i]|) Psi[i]; examples without deformation (|mu[i]| = 0) contribute nothing.
+      const double muNorm = outcome.description.mu.values().norm();
+      Eigen::VectorXd scaled = outcome.weights;
+      for (Eigen::Index i = 0; i < scaled.size(); ++i) scaled(i) = muNorms_(i) > 0.0 ? scaled(i) * muNorm / muNorms_(i) : 0.0;
+      blendScratch_.stamp = blendStamps(stamps_, scaled);
+    }
     if (options_.stampGain == 1.0) blendScratch_.stamp.copyTo(stamp.stamp);
     else blendScratch_.stamp.convertTo(stamp.stamp, -1, options_.stampGain);
     out.timings.blendSeconds += secondsSince(t0);

@@ -22,13 +22,14 @@ json vec(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); 
 int main(int argc, char** argv) {
   CLI::App app{"Held-out error of coarse vs enriched surfaces against the fine simulation"};
   std::string sceneName = "slab", setPath, contactsPath;
-  bool asJson = false, noFit = false;
+  bool asJson = false, noFit = false, magnitude = false;
   double gain = 1.0, rimBand = 0.2;
   app.add_option("--scene", sceneName, "scene (slab)")->check(CLI::IsMember({"slab"}));
   app.add_option("--examples", setPath, "example set directory (de_make_examples)")->required();
   app.add_option("--contacts", contactsPath, "CSV x,y,z,depth,dx,dy,dz per held-out interaction (default: built-in)");
   app.add_option("--gain", gain, "stamp gain");
   app.add_option("--rim-band", rimBand, "StampMapper rim band in [0, 1)");
+  app.add_flag("--magnitude-aware", magnitude, "scale each example stamp by |mu| / |mu[i]|");
   app.add_flag("--no-fit", noFit, "keep default kernel widths instead of the leave-one-out fit");
   app.add_flag("--json", asJson, "print JSON (always on; kept for the documented command line)");
   CLI11_PARSE(app, argc, argv);
@@ -36,10 +37,10 @@ int main(int argc, char** argv) {
     const auto contacts = contactsPath.empty() ? acquisition::heldOutSlabContacts() : acquisition::readPlan(contactsPath);
     const examples::ExampleSet set = examples::loadExampleSet(setPath);
     acquisition::SlabAcquisitionOptions options;
-    const auto scale = set.metadata.material.find("window_scale_m");
-    if (scale != set.metadata.material.end()) options.enricher.descriptors.window.scale = scale->second;  // as acquired
+    acquisition::applyResolutionMetadata(set.metadata.material, options);  // the slabs and h the set was made with
     options.enricher.stampGain = gain;
     options.enricher.rimBand = rimBand;
+    options.enricher.magnitudeAware = magnitude;
     acquisition::SlabAcquisition acq(options);
     enrichment::ExampleBlenderOptions blenderOptions;
     blenderOptions.fitWidths = !noFit && set.examples.size() >= 2;
@@ -89,7 +90,7 @@ int main(int argc, char** argv) {
     }
     const double coarseRms = count ? std::sqrt(coarseSq / count) : 0.0, enrichedRms = count ? std::sqrt(enrichedSq / count) : 0.0;
     json out = {{"scene", sceneName}, {"examples", set.examples.size()}, {"contacts", contacts.size()},
-                {"stamp_radius", R}, {"surface_vertices", rest.cols()},
+                {"stamp_radius", R}, {"magnitude_aware", magnitude}, {"rim_band", rimBand}, {"surface_vertices", rest.cols()},
                 {"sigma_rho", blender->widths().sigmaRho}, {"sigma_u", blender->widths().sigmaU},
                 {"coarse_rms", coarseRms}, {"enriched_rms", enrichedRms},
                 {"ratio", coarseRms > 0.0 ? enrichedRms / coarseRms : 0.0},

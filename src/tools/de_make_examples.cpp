@@ -25,15 +25,20 @@ int main(int argc, char** argv) {
   CLI::App app{"Acquire an example set (coarse vs fine simulations) for a scene"};
   std::string sceneName = "slab", output, planPath;
   int resolution = 64;
+  std::vector<int> coarseCells{10, 10, 2}, fineCells{24, 24, 4};
   app.add_option("--scene", sceneName, "scene (slab)")->check(CLI::IsMember({"slab"}));
   app.add_option("--output", output, "example set directory")->required();
   app.add_option("--plan", planPath, "CSV x,y,z,depth,dx,dy,dz per interaction (default: built-in slab plan)");
   app.add_option("--stamp-resolution", resolution, "stamp nodes per side");
+  app.add_option("--coarse-cells", coarseCells, "coarse slab cells x y bulk-z (+1 skin layer)")->expected(3);
+  app.add_option("--fine-cells", fineCells, "fine slab cells x y bulk-z (+2 skin layers)")->expected(3);
   CLI11_PARSE(app, argc, argv);
   try {
     const std::vector<acquisition::PlanEntry> plan = planPath.empty() ? acquisition::defaultSlabPlan() : acquisition::readPlan(planPath);
     acquisition::SlabAcquisitionOptions options;
     options.stampResolution = resolution;
+    options.coarse.cells = Eigen::Vector3i(coarseCells[0], coarseCells[1], coarseCells[2]);
+    options.fine.cells = Eigen::Vector3i(fineCells[0], fineCells[1], fineCells[2]);
     std::cerr << "building coarse and fine slabs, embedding and site sampling...\n";
     acquisition::SlabAcquisition acq(options);
     examples::ExampleSet previous;
@@ -48,12 +53,12 @@ int main(int argc, char** argv) {
     examples::ExampleSet set;
     set.metadata.scene = sceneName;
     set.metadata.material = acq.materialMetadata();
-    set.metadata.description = "de_make_examples: coarse 10x10x(2+1 skin) vs fine 24x24x(4+2 skin) slab, SNH";
+    set.metadata.description = "de_make_examples: coarse vs fine slab (cells in the material metadata), SNH";
     for (std::size_t i = 0; i < plan.size(); ++i) {
       const acquisition::PlanEntry& entry = plan[i];
       const examples::Example* done = nullptr;
       for (const auto& e : previous.examples)
-        if (samePattern(e, entry) && e.stamp.rows == resolution) done = &e;
+        if (samePattern(e, entry) && e.stamp.rows == resolution && previous.metadata.material == set.metadata.material) done = &e;
       if (done) {
         set.examples.push_back(*done);
         std::cerr << "[" << i + 1 << "/" << plan.size() << "] already acquired, skipped\n";

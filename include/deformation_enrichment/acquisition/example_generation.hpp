@@ -63,6 +63,10 @@ struct InteractionResult {
   std::string message;            ///< solver messages when not converged
 };
 
+/// Restores the resolutions and window scale a set was acquired with (materialMetadata keys), so that
+/// evaluation rebuilds the same coarse / fine slabs and descriptors.
+void applyResolutionMetadata(const std::map<std::string, double>& material, SlabAcquisitionOptions& options);
+
 class SlabAcquisition {
 public:
   /// Builds both scenes, their FEM models, the fine surface, the embedding and the ContactEnricher.

@@ -24,6 +24,10 @@ struct ContactEnricherOptions {
   double sampleSpacing = 0.0;   ///< interior sampling for rho (m); 0 = h / 4
   double rimBand = 0.2;         ///< StampMapper rim band
   double stampGain = 1.0;       ///< scales every blended stamp (run-time knob)
+  /// Magnitude-aware stamps (issue 5 (b)): eq. (16) becomes Psi = sum_i w~_i (|mu| / |mu[i]|) Psi[i], so an
+  /// example's detail scales with how strongly the current contact deforms compared with the example
+  /// (eq. 14 compares directions only). false = the paper's pure correlation.
+  bool magnitudeAware = false;
 };
 
 /// One tool contact. `point` is a rest-state position when `restState`, otherwise a current-state position
@@ -107,6 +111,8 @@ private:
   std::unique_ptr<descriptors::PointSampling> surfaceSampling_;      // surface vertices, area weights (mu)
   mutable std::vector<std::optional<hermite::MomentList>> siteCache_;  // rho (world axes) per rest vertex
   std::shared_ptr<const ExampleBlender> blender_;
+  std::vector<cv::Mat> stamps_;   // the active set's stamps (magnitude-aware blending)
+  Eigen::VectorXd muNorms_;       // |mu[i]| of the active set
   StampMapper mapper_;
   BlendResult blendScratch_;
   std::vector<ContactStamp> stampScratch_;

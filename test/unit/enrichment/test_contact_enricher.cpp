@@ -185,3 +185,33 @@ TEST(ContactEnricher, BadInputThrowsTypedErrors) {
   o.stampRadius = 0.0;
   EXPECT_THROW(ContactEnricher(slabSurface(), o), InvalidInputError);
 }
+
+TEST(ContactEnricher, MagnitudeAwareStampScalesWithMu) {
+  auto o = options();
+  o.magnitudeAware = true;
+  ContactEnricher enricher(slabSurface(), o);
+  const Eigen::Matrix3Xd& rest = enricher.restSurface().vertices;
+  const Eigen::Vector3d p(0.0, 0.001, 0.02);
+  const Contact contact = restContact(p);
+  const auto d1 = enricher.describe(dented(rest, p, 1.0), contact);
+  const cv::Mat stamp = syntheticStamp(32, 0.02);
+  enricher.setExamples(oneExampleSet(d1, stamp, 0.02), fixedWidths());
+  const Eigen::Matrix3Xd twice = dented(rest, p, 2.0);
+  const auto d2 = enricher.describe(twice, contact);
+  const double scale = d2.mu.values().norm() / d1.mu.values().norm();
+  EXPECT_GT(scale, 1.5);  // a twice as strong dent: mu about twice as large
+  enrichment::EnrichmentResult result;
+  enricher.enrich(twice, {contact}, result);
+  const double w = result.contacts[0].weights(0);
+  EXPECT_GT(w, 0.5);
+  int checked = 0;
+  for (std::size_t i = 0; i < result.enrichment.vertices.size(); ++i) {
+    const Eigen::Vector3d x = rest.col(result.enrichment.vertices[i]);
+    if ((x - p).norm() > 0.7 * 0.02) continue;
+    const Eigen::Vector2d s = d2.B.leftCols<2>().transpose() * (x - p);
+    const Eigen::Vector3d expected = scale * w * d2.R * d2.B * enrichment::sampleStamp(stamp, 0.02, s.x(), s.y());
+    EXPECT_LT((result.enrichment.displacements.col(static_cast<Eigen::Index>(i)) - expected).norm(), 1e-7 * 1e-3 + 1e-12);
+    ++checked;
+  }
+  EXPECT_GT(checked, 10);
+}
