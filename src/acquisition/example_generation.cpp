@@ -146,6 +146,8 @@ void applyResolutionMetadata(const std::map<std::string, double>& material, Slab
   get("fine_cells_y", options.fine.cells.y());
   get("fine_cells_z", options.fine.cells.z());
   get("fine_skin_layers", options.fine.skinLayers);
+  const auto tool = material.find("tool_radius_m");
+  if (tool != material.end()) options.toolRadius = tool->second;
   const auto h = material.find("window_scale_m");
   if (h != material.end()) options.enricher.descriptors.window.scale = h->second;
 }

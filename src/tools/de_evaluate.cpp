@@ -23,13 +23,15 @@ int main(int argc, char** argv) {
   CLI::App app{"Held-out error of coarse vs enriched surfaces against the fine simulation"};
   std::string sceneName = "slab", setPath, contactsPath;
   bool asJson = false, noFit = false, magnitude = false;
-  double gain = 1.0, rimBand = 0.2;
+  double gain = 1.0, rimBand = 0.2, sigmaRho = 0.0, sigmaU = 0.0;
   app.add_option("--scene", sceneName, "scene (slab)")->check(CLI::IsMember({"slab"}));
   app.add_option("--examples", setPath, "example set directory (de_make_examples)")->required();
   app.add_option("--contacts", contactsPath, "CSV x,y,z,depth,dx,dy,dz per held-out interaction (default: built-in)");
   app.add_option("--gain", gain, "stamp gain");
   app.add_option("--rim-band", rimBand, "StampMapper rim band in [0, 1)");
   app.add_flag("--magnitude-aware", magnitude, "scale each example stamp by |mu| / |mu[i]|");
+  app.add_option("--sigma-rho", sigmaRho, "fixed kernel width sigma_rho (with --sigma-u: no leave-one-out fit)");
+  app.add_option("--sigma-u", sigmaU, "fixed kernel width sigma_u");
   app.add_flag("--no-fit", noFit, "keep default kernel widths instead of the leave-one-out fit");
   app.add_flag("--json", asJson, "print JSON (always on; kept for the documented command line)");
   CLI11_PARSE(app, argc, argv);
@@ -43,7 +45,8 @@ int main(int argc, char** argv) {
     options.enricher.magnitudeAware = magnitude;
     acquisition::SlabAcquisition acq(options);
     enrichment::ExampleBlenderOptions blenderOptions;
-    blenderOptions.fitWidths = !noFit && set.examples.size() >= 2;
+    blenderOptions.fitWidths = !noFit && !(sigmaRho > 0.0 && sigmaU > 0.0) && set.examples.size() >= 2;
+    if (sigmaRho > 0.0 && sigmaU > 0.0) blenderOptions.widths = enrichment::KernelWidths{sigmaRho, sigmaU};
     acq.enricher().setExamples(set, blenderOptions);
     const auto* blender = acq.enricher().blender();
     const Eigen::Matrix3Xd& rest = acq.fineSurface().vertices;

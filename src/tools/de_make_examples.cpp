@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   CLI::App app{"Acquire an example set (coarse vs fine simulations) for a scene"};
   std::string sceneName = "slab", output, planPath;
   int resolution = 64;
+  double toolRadius = acquisition::SlabAcquisitionOptions().toolRadius;
   std::vector<int> coarseCells{10, 10, 2}, fineCells{24, 24, 4};
   app.add_option("--scene", sceneName, "scene (slab)")->check(CLI::IsMember({"slab"}));
   app.add_option("--output", output, "example set directory")->required();
@@ -32,11 +33,13 @@ int main(int argc, char** argv) {
   app.add_option("--stamp-resolution", resolution, "stamp nodes per side");
   app.add_option("--coarse-cells", coarseCells, "coarse slab cells x y bulk-z (+1 skin layer)")->expected(3);
   app.add_option("--fine-cells", fineCells, "fine slab cells x y bulk-z (+2 skin layers)")->expected(3);
+  app.add_option("--tool-radius", toolRadius, "tool footprint radius (m)");
   CLI11_PARSE(app, argc, argv);
   try {
     const std::vector<acquisition::PlanEntry> plan = planPath.empty() ? acquisition::defaultSlabPlan() : acquisition::readPlan(planPath);
     acquisition::SlabAcquisitionOptions options;
     options.stampResolution = resolution;
+    options.toolRadius = toolRadius;
     options.coarse.cells = Eigen::Vector3i(coarseCells[0], coarseCells[1], coarseCells[2]);
     options.fine.cells = Eigen::Vector3i(fineCells[0], fineCells[1], fineCells[2]);
     std::cerr << "building coarse and fine slabs, embedding and site sampling...\n";

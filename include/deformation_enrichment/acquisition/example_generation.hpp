@@ -63,7 +63,7 @@ struct InteractionResult {
   std::string message;            ///< solver messages when not converged
 };
 
-/// Restores the resolutions and window scale a set was acquired with (materialMetadata keys), so that
+/// Restores the resolutions, tool radius and window scale a set was acquired with (materialMetadata keys), so that
 /// evaluation rebuilds the same coarse / fine slabs and descriptors.
 void applyResolutionMetadata(const std::map<std::string, double>& material, SlabAcquisitionOptions& options);
 
