@@ -110,8 +110,10 @@ QuasiStaticSolver::QuasiStaticSolver(const TetFem& fem, SolverSettings settings)
 #endif
   linear_->kind = kind;
   if (settings_.maxIterations < 0 || !(settings_.relativeForceTolerance >= 0.0) || settings_.maxLineSearchSteps < 1 ||
-      !(settings_.armijo > 0.0 && settings_.armijo < 1.0) || !(settings_.maxSeconds > 0.0))
-    throw InvalidInputError("QuasiStaticSolver: invalid settings (limits must be positive, 0 < armijo < 1)");
+      !(settings_.armijo > 0.0 && settings_.armijo < 1.0) || !(settings_.maxSeconds > 0.0) ||
+      !(settings_.exactHessianBelow >= 0.0) || !(settings_.reuseContraction >= 0.0 && settings_.reuseContraction < 1.0))
+    throw InvalidInputError("QuasiStaticSolver: invalid settings (limits must be positive, 0 < armijo < 1, "
+                            "exactHessianBelow >= 0, 0 <= reuseContraction < 1)");
 }
 
 QuasiStaticSolver::~QuasiStaticSolver() = default;

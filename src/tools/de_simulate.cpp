@@ -86,6 +86,10 @@ int main(int argc, char** argv) {
   app.add_option("--max-iterations", maxIterations, "Newton iterations per step");
   app.add_option("--tolerance", tolerance, "relative force tolerance");
   app.add_option("--max-seconds", maxSeconds, "time limit per step (s)");
+  double exactBelow = elasticity::SolverSettings().exactHessianBelow;
+  double reuseContraction = elasticity::SolverSettings().reuseContraction;
+  app.add_option("--exact-below", exactBelow, "try the exact Hessian once |f| <= this fraction of |f_0| (0 = never)");
+  app.add_option("--reuse-contraction", reuseContraction, "reuse a factorisation after a step shrinking |f| to this fraction (0 = never)");
   app.add_option("--out", outDir, "output directory (OBJ per step, log.json)");
   CLI11_PARSE(app, argc, argv);
 
@@ -124,6 +128,8 @@ int main(int argc, char** argv) {
     settings.maxIterations = maxIterations;
     settings.relativeForceTolerance = tolerance;
     settings.maxSeconds = maxSeconds;
+    settings.exactHessianBelow = exactBelow;
+    settings.reuseContraction = reuseContraction;
     settings.linearSolver = solverName == "cholmod" ? elasticity::LinearSolverKind::Cholmod
                             : solverName == "ldlt"  ? elasticity::LinearSolverKind::SimplicialLDLT
                                                     : elasticity::LinearSolverKind::Auto;

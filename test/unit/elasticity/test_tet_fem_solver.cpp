@@ -191,6 +191,12 @@ TEST(QuasiStaticSolver, ReportsLimitsAndRejectsBadInput) {
   EXPECT_TRUE(copy.allFinite());
   EXPECT_LT(result.energy, block.fem.energy(x));
 
+  SolverSettings bad;
+  bad.reuseContraction = 1.5;
+  EXPECT_THROW(QuasiStaticSolver(block.fem, bad), InvalidInputError);
+  bad = SolverSettings();
+  bad.armijo = 0.0;
+  EXPECT_THROW(QuasiStaticSolver(block.fem, bad), InvalidInputError);
   QuasiStaticSolver solver(block.fem);
   Eigen::Matrix3Xd wrong = Eigen::Matrix3Xd::Zero(3, 2);
   EXPECT_THROW(solver.solve(wrong, block.support), InvalidInputError);
