@@ -41,6 +41,8 @@ std::vector<PlanEntry> heldOutSlabContacts();
 struct SlabAcquisitionOptions {
   /// Coarse: 10 x 10 cells, 2 bulk layers + 1 skin layer (1 cm cells). Fine: 24 x 24 cells, 4 bulk layers
   /// + 2 skin layers (4.2 mm cells). Both carry the same 1 mm skin so their rest surfaces coincide.
+  /// Measured (Release, shared 2 cores): the default 10-line plan takes ~70 s (fine solve 3.5-10 s per
+  /// interaction, coarse ~0.2 s); the fine surface has 1730 vertices.
   scenes::Layering coarse{Eigen::Vector3i(10, 10, 2), 0.001, 1};
   scenes::Layering fine{Eigen::Vector3i(24, 24, 4), 0.001, 2};
   double bulkYoung = 1e4, bulkPoisson = 0.45;  ///< Pa; soft tissue
