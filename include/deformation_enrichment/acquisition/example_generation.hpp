@@ -1,0 +1,98 @@
+#pragma once
+// Example acquisition of paper 000 §3 on the slab scene (DESIGN.md §1, §4): for one tool interaction run
+// the COARSE and the FINE quasi-static simulation with the same tool motion, interpolate the coarse
+// solution onto the fine surface through the barycentric embedding, take d = fine - coarse on the fine
+// surface vertices, describe the contact (p, B, R, rho, mu) from the coarse state with the ContactEnricher
+// (the very code the run time uses) and rasterise Psi = B^T R^T d in the example frame.
+// The enricher works on the fine (display) surface; its "current" state is the coarse solution carried
+// onto that surface by the embedding, both here and at run time.
+#include <Eigen/Core>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "deformation_enrichment/enrichment/contact_enricher.hpp"
+#include "deformation_enrichment/examples/example.hpp"
+#include "deformation_enrichment/mesh/triangle_mesh.hpp"
+#include "deformation_enrichment/scenes/procedural_scene.hpp"
+
+namespace deformation_enrichment::acquisition {
+
+/// One line of a plan / contacts CSV: `x,y,z,depth,dx,dy,dz` (metres): contact near the rest surface,
+/// indentation depth along the inward normal, lateral drag vector.
+struct PlanEntry {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  double depth = 0.0;
+  Eigen::Vector3d drag = Eigen::Vector3d::Zero();
+};
+
+/// Parses the CSV (blank lines and lines starting with '#' skipped). Throws IoError naming the file and
+/// line for an unreadable file, a wrong field count, a non-numeric or non-finite field, a negative depth,
+/// or no entry at all.
+std::vector<PlanEntry> readPlan(const std::string& path);
+void writePlan(const std::string& path, const std::vector<PlanEntry>& plan);
+
+/// Ten indent / drag interactions on the slab top (|x|, |y| <= 0.02 m, depths 2-4 mm, drags 0-6 mm).
+std::vector<PlanEntry> defaultSlabPlan();
+/// Held-out interactions between those of the default plan (for de_evaluate).
+std::vector<PlanEntry> heldOutSlabContacts();
+
+struct SlabAcquisitionOptions {
+  /// Coarse: 10 x 10 cells, 2 bulk layers + 1 skin layer (1 cm cells). Fine: 24 x 24 cells, 4 bulk layers
+  /// + 2 skin layers (4.2 mm cells). Both carry the same 1 mm skin so their rest surfaces coincide.
+  /// Measured (Release, shared 2 cores): the default 10-line plan takes ~70 s (fine solve 3.5-10 s per
+  /// interaction, coarse ~0.2 s); the fine surface has 1730 vertices.
+  scenes::Layering coarse{Eigen::Vector3i(10, 10, 2), 0.001, 1};
+  scenes::Layering fine{Eigen::Vector3i(24, 24, 4), 0.001, 2};
+  double bulkYoung = 1e4, bulkPoisson = 0.45;  ///< Pa; soft tissue
+  double skinYoung = 1e6, skinPoisson = 0.3;   ///< Pa; stiff skin
+  double toolRadius = 0.005;   ///< footprint radius (m); the coarse footprint is widened to reach a vertex
+  int indentSteps = 2, dragSteps = 2;
+  double relativeTolerance = 1e-7;
+  int stampResolution = 64;
+  enrichment::ContactEnricherOptions enricher = defaultEnricherOptions();
+
+  static enrichment::ContactEnricherOptions defaultEnricherOptions();
+};
+
+/// Surface states of one interaction on the fine surface's vertices.
+struct InteractionResult {
+  Eigen::Matrix3Xd coarseOnFine;  ///< coarse solution interpolated through the embedding
+  Eigen::Matrix3Xd fine;          ///< fine solution
+  double coarseSeconds = 0.0, fineSeconds = 0.0;
+  bool converged = true;
+  std::string message;            ///< solver messages when not converged
+};
+
+/// Restores the resolutions, tool radius and window scale a set was acquired with (materialMetadata keys), so that
+/// evaluation rebuilds the same coarse / fine slabs and descriptors.
+void applyResolutionMetadata(const std::map<std::string, double>& material, SlabAcquisitionOptions& options);
+
+class SlabAcquisition {
+public:
+  /// Builds both scenes, their FEM models, the fine surface, the embedding and the ContactEnricher.
+  explicit SlabAcquisition(const SlabAcquisitionOptions& options = SlabAcquisitionOptions());
+  ~SlabAcquisition();
+
+  const SlabAcquisitionOptions& options() const { return options_; }
+  const mesh::TriangleMesh& fineSurface() const;
+  enrichment::ContactEnricher& enricher();
+  std::map<std::string, double> materialMetadata() const;
+
+  /// Coarse and fine solves of one interaction (throws InvalidInputError if the tool misses the top).
+  InteractionResult simulate(const PlanEntry& entry) const;
+
+  /// The example of an interaction (descriptors from the coarse state, stamp from d = fine - coarse).
+  examples::Example makeExample(const PlanEntry& entry, const InteractionResult& result);
+
+  /// The enricher's contact for a plan entry (rest-state point, tool 0).
+  static enrichment::Contact contactOf(const PlanEntry& entry);
+
+private:
+  struct Impl;
+  SlabAcquisitionOptions options_;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace deformation_enrichment::acquisition

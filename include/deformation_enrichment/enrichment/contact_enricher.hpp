@@ -1,0 +1,121 @@
+#pragma once
+// The run-time pipeline of paper 000 §5-§6 on one rest surface, shared by the ROS node, acquisition and
+// evaluation so that example descriptors and run-time descriptors are computed by the same code:
+//   per contact p: site descriptor rho (density moments of an interior sampling of the closed rest
+//   surface, cached per nearest rest vertex), deformation descriptor mu (MLS "surface samples" mode over
+//   the surface vertices near p, rest vs current, completed by the rest/current normals), stamping frame
+//   B (normal, rho_1, then the deformation direction), then ExampleBlender (eq. 15 -> RBF -> eq. 16) and
+//   StampMapper (eq. 1, multi-contact rim rule).
+#include <Eigen/Core>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "deformation_enrichment/descriptors/descriptor_evaluator.hpp"
+#include "deformation_enrichment/enrichment/example_blender.hpp"
+#include "deformation_enrichment/enrichment/stamp_blending.hpp"
+#include "deformation_enrichment/mesh/triangle_mesh.hpp"
+
+namespace deformation_enrichment::enrichment {
+
+struct ContactEnricherOptions {
+  descriptors::DescriptorOptions descriptors;  ///< window scale h, orders N, frame tolerance, MLS
+  double stampRadius = 0.02;    ///< R of the stamps this surface expects (m); examples must match
+  double sampleSpacing = 0.0;   ///< interior sampling for rho (m); 0 = h / 4
+  double rimBand = 0.2;         ///< StampMapper rim band
+  double stampGain = 1.0;       ///< scales every blended stamp (run-time knob)
+  /// Magnitude-aware stamps (issue 5 (b)): eq. (16) becomes Psi = sum_i w~_i (|mu| / |mu[i]|) Psi[i], so an
+  /// example's detail scales with how strongly the current contact deforms compared with the example
+  /// (eq. 14 compares directions only). false = the paper's pure correlation.
+  bool magnitudeAware = false;
+};
+
+/// One tool contact. `point` is a rest-state position when `restState`, otherwise a current-state position
+/// (mapped to the rest state through the nearest current surface vertex).
+struct Contact {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  bool restState = true;
+  std::optional<Eigen::Vector3d> normal;  ///< outward normal in rest axes; default: the rest vertex normal
+  int toolId = 0;
+};
+
+/// Descriptors of one contact, exactly what an example stores (rho, mu in frame B) plus what mapping needs.
+struct ContactDescription {
+  int vertex = -1;                                        ///< nearest rest surface vertex
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();            ///< rest-state contact position
+  Eigen::Matrix3d B = Eigen::Matrix3d::Identity();        ///< stamping frame (rest axes)
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();        ///< polar rotation of the MLS F (rest -> current)
+  descriptors::FrameRule frameRule = descriptors::FrameRule::Fixed;
+  hermite::MomentList rho;                                ///< in frame B
+  hermite::MomentList mu;                                 ///< in frame B
+};
+
+struct ContactOutcome {
+  int toolId = 0;
+  ContactDescription description;
+  Eigen::VectorXd weights;  ///< w~ per example (eq. 16)
+  double confidence = 0.0;  ///< max eq. (15) weight
+};
+
+struct EnrichmentTimings {
+  double descriptorSeconds = 0.0, blendSeconds = 0.0, mapSeconds = 0.0, totalSeconds = 0.0;
+};
+
+struct EnrichmentResult {
+  SurfaceEnrichment enrichment;  ///< touched vertex ids (ascending) and added displacements
+  std::vector<ContactOutcome> contacts;
+  EnrichmentTimings timings;
+};
+
+class ContactEnricher {
+public:
+  /// `restSurface` must be a valid closed triangle mesh (the interior sampling needs it closed). Throws
+  /// InvalidInputError for an invalid/open surface or bad options (non-positive radius, scale, spacing).
+  ContactEnricher(mesh::TriangleMesh restSurface, const ContactEnricherOptions& options);
+  ~ContactEnricher();
+  ContactEnricher(ContactEnricher&&) noexcept;
+  ContactEnricher& operator=(ContactEnricher&&) noexcept;
+
+  const ContactEnricherOptions& options() const { return options_; }
+  const mesh::TriangleMesh& restSurface() const { return rest_; }
+  Eigen::Index size() const { return rest_.vertices.cols(); }
+
+  /// Builds the ExampleBlender for `set` (widths fitted at load). The stamps' radius must equal
+  /// options().stampRadius. On an exception the previous examples stay active.
+  void setExamples(const examples::ExampleSet& set, const ExampleBlenderOptions& blenderOptions = {});
+  bool hasExamples() const { return blender_ != nullptr; }
+  const ExampleBlender* blender() const { return blender_.get(); }
+  void setStampGain(double gain);
+
+  /// Descriptors at one contact for the current surface positions (3 x size()). Throws InvalidInputError
+  /// for wrong sizes, NaN, or a contact with no surface vertex within the window cut-off.
+  ContactDescription describe(const Eigen::Matrix3Xd& current, const Contact& contact) const;
+
+  /// Enrichment of the current state for the contacts. No contact: empty result, nothing evaluated.
+  /// Vertices outside every stamp radius are not listed. Needs examples (else InvalidInputError).
+  /// Reuses internal scratch: one enricher must not be used from two threads at once.
+  void enrich(const Eigen::Matrix3Xd& current, const std::vector<Contact>& contacts, EnrichmentResult& out);
+
+  /// s~ = s + e (eq. 1) in place; untouched vertices keep their bits.
+  void apply(const EnrichmentResult& result, Eigen::Matrix3Xd& state) const { mapper_.apply(result.enrichment, state); }
+
+private:
+  Eigen::Vector3d currentNormal(const Eigen::Matrix3Xd& current, int vertex) const;
+  void checkState(const Eigen::Matrix3Xd& current) const;
+
+  ContactEnricherOptions options_;
+  mesh::TriangleMesh rest_;
+  Eigen::Matrix3Xd restNormals_;
+  std::vector<std::vector<int>> vertexTriangles_;
+  std::unique_ptr<descriptors::DescriptorEvaluator> siteEvaluator_;  // interior sampling (rho, normals)
+  std::unique_ptr<descriptors::PointSampling> surfaceSampling_;      // surface vertices, area weights (mu)
+  mutable std::vector<std::optional<hermite::MomentList>> siteCache_;  // rho (world axes) per rest vertex
+  std::shared_ptr<const ExampleBlender> blender_;
+  std::vector<cv::Mat> stamps_;   // the active set's stamps (magnitude-aware blending)
+  Eigen::VectorXd muNorms_;       // |mu[i]| of the active set
+  StampMapper mapper_;
+  BlendResult blendScratch_;
+  std::vector<ContactStamp> stampScratch_;
+};
+
+}  // namespace deformation_enrichment::enrichment

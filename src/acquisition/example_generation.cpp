@@ -1,0 +1,283 @@
+#include "deformation_enrichment/acquisition/example_generation.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+#include "deformation_enrichment/elasticity/quasi_static_solver.hpp"
+#include "deformation_enrichment/elasticity/tet_fem.hpp"
+#include "deformation_enrichment/enrichment/stamp.hpp"
+#include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/mesh/barycentric_embedding.hpp"
+#include "deformation_enrichment/mesh/tet_surface.hpp"
+#include "deformation_enrichment/scenes/tool_loading.hpp"
+
+namespace deformation_enrichment::acquisition {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r");
+  if (b == std::string::npos) return "";
+  return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
+}
+
+PlanEntry entry(double x, double y, double depth, double dx, double dy) {
+  PlanEntry e;
+  e.point = Eigen::Vector3d(x, y, 0.02);
+  e.depth = depth;
+  e.drag = Eigen::Vector3d(dx, dy, 0.0);
+  return e;
+}
+
+// One body (coarse or fine) with its solver.
+struct Body {
+  scenes::Scene scene;
+  std::unique_ptr<elasticity::TetFem> fem;
+  double cellSize = 0.0;  // largest lateral cell size (m)
+};
+
+Body makeBody(const scenes::Layering& layering, const SlabAcquisitionOptions& o) {
+  Body body;
+  scenes::SlabOptions slab;
+  slab.layering = layering;
+  body.scene = scenes::makeSlab(slab);
+  const auto bulk = elasticity::lameFromYoungPoisson(o.bulkYoung, o.bulkPoisson);
+  const auto skin = elasticity::lameFromYoungPoisson(o.skinYoung, o.skinPoisson);
+  body.fem = std::make_unique<elasticity::TetFem>(
+      body.scene.mesh,
+      std::vector<elasticity::StableNeoHookean>{elasticity::StableNeoHookean(bulk.mu, bulk.lambda),
+                                                elasticity::StableNeoHookean(skin.mu, skin.lambda)},
+      body.scene.materialId);
+  const Eigen::Vector3d extent = slab.hi - slab.lo;
+  body.cellSize = std::max(extent.x() / layering.cells.x(), extent.y() / layering.cells.y());
+  return body;
+}
+
+// Quasi-static path: indent along -z (the slab top's inward normal), then drag. Returns seconds.
+double solvePath(const Body& body, const PlanEntry& e, const SlabAcquisitionOptions& o, Eigen::Matrix3Xd& positions,
+                 bool& converged, std::string& message) {
+  const auto start = Clock::now();
+  // A coarse grid may have no vertex within the tool radius: widen the footprint to reach one (~0.71 cell).
+  const double radius = std::max(o.toolRadius, 0.75 * body.cellSize);
+  const std::vector<int> tool = scenes::toolFootprint(body.scene, e.point.head<2>(), radius);
+  const double dragDistance = e.drag.norm();
+  const int dragSteps = dragDistance > 0.0 ? o.dragSteps : 0;
+  const Eigen::Vector3d dragDirection = dragDistance > 0.0 ? Eigen::Vector3d(e.drag / dragDistance) : Eigen::Vector3d::UnitX();
+  elasticity::SolverSettings settings;
+  settings.relativeForceTolerance = o.relativeTolerance;
+  elasticity::QuasiStaticSolver solver(*body.fem, settings);
+  positions = body.scene.mesh.vertices;
+  for (int step = 1; step <= o.indentSteps + dragSteps; ++step) {
+    const Eigen::Vector3d u = scenes::toolDisplacement(step, o.indentSteps, dragSteps, -Eigen::Vector3d::UnitZ(), e.depth,
+                                                       dragDirection, dragDistance);
+    const elasticity::SolveResult r = solver.solve(positions, scenes::toolConstraints(body.scene, tool, u));
+    if (!r.converged()) {
+      converged = false;
+      message += "step " + std::to_string(step) + ": " + r.message + "; ";
+    }
+  }
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+std::vector<PlanEntry> readPlan(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw IoError(path + ": cannot open plan");
+  std::vector<PlanEntry> plan;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    line = trim(line);
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<double> v;
+    std::stringstream fields(line);
+    std::string field;
+    while (std::getline(fields, field, ',')) {
+      field = trim(field);
+      std::size_t used = 0;
+      double value = 0.0;
+      try {
+        value = std::stod(field, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used == 0 || used != field.size()) throw IoError(path + ":" + std::to_string(number) + ": '" + field + "' is not a number");
+      if (!std::isfinite(value)) throw IoError(path + ":" + std::to_string(number) + ": non-finite value");
+      v.push_back(value);
+    }
+    if (v.size() != 7)
+      throw IoError(path + ":" + std::to_string(number) + ": expected 7 fields x,y,z,depth,dx,dy,dz, got " + std::to_string(v.size()));
+    if (v[3] < 0.0) throw IoError(path + ":" + std::to_string(number) + ": negative indentation depth");
+    PlanEntry e;
+    e.point = Eigen::Vector3d(v[0], v[1], v[2]);
+    e.depth = v[3];
+    e.drag = Eigen::Vector3d(v[4], v[5], v[6]);
+    plan.push_back(e);
+  }
+  if (plan.empty()) throw IoError(path + ": no interaction in the plan");
+  return plan;
+}
+
+void writePlan(const std::string& path, const std::vector<PlanEntry>& plan) {
+  std::ofstream out(path);
+  if (!out) throw IoError(path + ": cannot write plan");
+  out << "# x,y,z,depth,dx,dy,dz (m)\n" << std::setprecision(9);
+  for (const PlanEntry& e : plan)
+    out << e.point.x() << ',' << e.point.y() << ',' << e.point.z() << ',' << e.depth << ',' << e.drag.x() << ','
+        << e.drag.y() << ',' << e.drag.z() << '\n';
+  if (!out) throw IoError(path + ": failed while writing");
+}
+
+void applyResolutionMetadata(const std::map<std::string, double>& material, SlabAcquisitionOptions& options) {
+  const auto get = [&](const char* key, int& value) {
+    const auto it = material.find(key);
+    if (it != material.end()) value = static_cast<int>(std::lround(it->second));
+  };
+  get("coarse_cells_x", options.coarse.cells.x());
+  get("coarse_cells_y", options.coarse.cells.y());
+  get("coarse_cells_z", options.coarse.cells.z());
+  get("fine_cells_x", options.fine.cells.x());
+  get("fine_cells_y", options.fine.cells.y());
+  get("fine_cells_z", options.fine.cells.z());
+  get("fine_skin_layers", options.fine.skinLayers);
+  const auto tool = material.find("tool_radius_m");
+  if (tool != material.end()) options.toolRadius = tool->second;
+  const auto h = material.find("window_scale_m");
+  if (h != material.end()) options.enricher.descriptors.window.scale = h->second;
+}
+
+std::vector<PlanEntry> defaultSlabPlan() {
+  return {entry(0.0, 0.0, 0.003, 0.0, 0.0),        entry(0.015, 0.0, 0.003, 0.005, 0.0),
+          entry(-0.015, 0.01, 0.004, 0.0, 0.005),   entry(0.01, -0.015, 0.002, -0.004, 0.0),
+          entry(-0.01, -0.01, 0.003, 0.004, 0.004), entry(0.02, 0.02, 0.004, 0.0, 0.0),
+          entry(0.0, 0.02, 0.003, 0.006, 0.0),      entry(-0.02, 0.0, 0.002, 0.0, -0.005),
+          entry(0.005, 0.015, 0.004, -0.003, 0.003), entry(-0.005, -0.02, 0.003, 0.0, 0.0)};
+}
+
+std::vector<PlanEntry> heldOutSlabContacts() {
+  return {entry(0.007, 0.004, 0.003, 0.003, 0.0), entry(-0.012, -0.004, 0.0035, 0.0, 0.0),
+          entry(0.012, -0.008, 0.0025, 0.0, 0.004), entry(-0.006, 0.012, 0.003, 0.004, 0.002)};
+}
+
+enrichment::ContactEnricherOptions SlabAcquisitionOptions::defaultEnricherOptions() {
+  enrichment::ContactEnricherOptions o;
+  o.descriptors.window.scale = 0.006;  // h: a tool-sized window
+  o.stampRadius = 0.02;                // folds of a 1 mm skin reach ~2 cm from a 5 mm tool
+  o.sampleSpacing = 0.002;
+  return o;
+}
+
+struct SlabAcquisition::Impl {
+  Body coarse, fine;
+  mesh::TetSurface fineSurface;
+  Eigen::Matrix3Xd fineSurfaceRest;
+  mesh::BarycentricEmbedding embedding;
+  std::unique_ptr<enrichment::ContactEnricher> enricher;
+};
+
+SlabAcquisition::SlabAcquisition(const SlabAcquisitionOptions& options) : options_(options), impl_(std::make_unique<Impl>()) {
+  impl_->coarse = makeBody(options.coarse, options);
+  impl_->fine = makeBody(options.fine, options);
+  impl_->fineSurface = mesh::extractSurface(impl_->fine.scene.mesh);
+  impl_->fineSurfaceRest = impl_->fineSurface.surface.vertices;
+  // Both slabs fill the same box, so every fine surface vertex lies in (or on) the coarse mesh.
+  impl_->embedding = mesh::embedPoints(impl_->coarse.scene.mesh, impl_->fineSurfaceRest, 1e-9);
+  impl_->enricher = std::make_unique<enrichment::ContactEnricher>(impl_->fineSurface.surface, options.enricher);
+}
+
+SlabAcquisition::~SlabAcquisition() = default;
+
+const mesh::TriangleMesh& SlabAcquisition::fineSurface() const { return impl_->fineSurface.surface; }
+enrichment::ContactEnricher& SlabAcquisition::enricher() { return *impl_->enricher; }
+
+std::map<std::string, double> SlabAcquisition::materialMetadata() const {
+  return {{"bulk_young_pa", options_.bulkYoung}, {"bulk_poisson", options_.bulkPoisson},
+          {"skin_young_pa", options_.skinYoung}, {"skin_poisson", options_.skinPoisson},
+          {"skin_thickness_m", options_.fine.skinThickness}, {"tool_radius_m", options_.toolRadius},
+          {"window_scale_m", options_.enricher.descriptors.window.scale},
+          {"coarse_cells_x", options_.coarse.cells.x()}, {"coarse_cells_y", options_.coarse.cells.y()},
+          {"coarse_cells_z", options_.coarse.cells.z()}, {"fine_cells_x", options_.fine.cells.x()},
+          {"fine_cells_y", options_.fine.cells.y()}, {"fine_cells_z", options_.fine.cells.z()},
+          {"fine_skin_layers", options_.fine.skinLayers}};
+}
+
+enrichment::Contact SlabAcquisition::contactOf(const PlanEntry& entry) {
+  enrichment::Contact c;
+  c.point = entry.point;
+  return c;
+}
+
+InteractionResult SlabAcquisition::simulate(const PlanEntry& entry) const {
+  if (!entry.point.allFinite() || !entry.drag.allFinite() || !std::isfinite(entry.depth) || entry.depth < 0.0)
+    throw InvalidInputError("acquisition: non-finite interaction or negative depth");
+  InteractionResult r;
+  Eigen::Matrix3Xd coarse, fine;
+  r.coarseSeconds = solvePath(impl_->coarse, entry, options_, coarse, r.converged, r.message);
+  r.fineSeconds = solvePath(impl_->fine, entry, options_, fine, r.converged, r.message);
+  // The coarse displacement carried onto the fine surface (exact for the coarse tets' affine fields).
+  r.coarseOnFine = impl_->fineSurfaceRest +
+                   mesh::interpolate(impl_->embedding, impl_->coarse.scene.mesh, coarse - impl_->coarse.scene.mesh.vertices);
+  r.fine.resize(3, impl_->fineSurfaceRest.cols());
+  for (Eigen::Index v = 0; v < r.fine.cols(); ++v) r.fine.col(v) = fine.col(impl_->fineSurface.surfaceToVolume[static_cast<std::size_t>(v)]);
+  return r;
+}
+
+examples::Example SlabAcquisition::makeExample(const PlanEntry& entry, const InteractionResult& result) {
+  const enrichment::ContactDescription d = impl_->enricher->describe(result.coarseOnFine, contactOf(entry));
+  const double R = options_.enricher.stampRadius;
+  const mesh::TriangleMesh& surface = impl_->fineSurface.surface;
+  // The patch seen from outside along b_z within the stamp square: rasterisation needs only these.
+  std::vector<int> toPatch(static_cast<std::size_t>(surface.vertices.cols()), -1);
+  std::vector<int> patchVertices;
+  std::vector<Eigen::Vector3i> patchTriangles;
+  const double reach = std::sqrt(2.0) * R + 2.0 * impl_->fine.cellSize;
+  for (Eigen::Index f = 0; f < surface.triangles.cols(); ++f) {
+    const Eigen::Vector3i t = surface.triangles.col(f);
+    const Eigen::Vector3d a = surface.vertices.col(t(0)), b = surface.vertices.col(t(1)), c = surface.vertices.col(t(2));
+    if ((b - a).cross(c - a).dot(d.B.col(2)) <= 0.0) continue;
+    if ((a - d.p).norm() > reach || (b - d.p).norm() > reach || (c - d.p).norm() > reach) continue;
+    Eigen::Vector3i local;
+    for (int k = 0; k < 3; ++k) {
+      int& id = toPatch[static_cast<std::size_t>(t(k))];
+      if (id < 0) {
+        id = static_cast<int>(patchVertices.size());
+        patchVertices.push_back(t(k));
+      }
+      local(k) = id;
+    }
+    patchTriangles.push_back(local);
+  }
+  if (patchTriangles.empty()) throw InvalidInputError("acquisition: no surface facing the contact's normal near it");
+  mesh::TriangleMesh patch;
+  patch.vertices.resize(3, static_cast<Eigen::Index>(patchVertices.size()));
+  patch.triangles.resize(3, static_cast<Eigen::Index>(patchTriangles.size()));
+  Eigen::Matrix3Xd frameDisplacement(3, patch.vertices.cols());
+  const Eigen::Matrix3d toFrame = d.B.transpose() * d.R.transpose();  // Psi = B^T R^T d inverts eq. (1)'s R B
+  for (std::size_t i = 0; i < patchVertices.size(); ++i) {
+    const int v = patchVertices[i];
+    patch.vertices.col(static_cast<Eigen::Index>(i)) = surface.vertices.col(v);
+    frameDisplacement.col(static_cast<Eigen::Index>(i)) = toFrame * (result.fine.col(v) - result.coarseOnFine.col(v));
+  }
+  for (std::size_t f = 0; f < patchTriangles.size(); ++f) patch.triangles.col(static_cast<Eigen::Index>(f)) = patchTriangles[f];
+
+  examples::Example e;
+  e.contact = d.p;
+  e.frame = d.B;
+  e.rho = d.rho;
+  e.mu = d.mu;
+  e.stamp = enrichment::rasteriseStamp(patch, frameDisplacement, d.p, d.B, R, options_.stampResolution);
+  e.stampRadius = R;
+  e.pattern.indentDepth = entry.depth;
+  e.pattern.drag = entry.drag;
+  e.sceneId = "slab";
+  examples::validateExample(e, "acquired example");
+  return e;
+}
+
+}  // namespace deformation_enrichment::acquisition

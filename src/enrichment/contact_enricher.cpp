@@ -1,0 +1,185 @@
+#include "deformation_enrichment/enrichment/contact_enricher.hpp"
+
+#include <Eigen/Geometry>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "deformation_enrichment/descriptors/deformation_descriptor.hpp"
+#include "deformation_enrichment/descriptors/interior_sampling.hpp"
+#include "deformation_enrichment/descriptors/moment_window.hpp"
+#include "deformation_enrichment/descriptors/stamping_frame.hpp"
+#include "deformation_enrichment/error.hpp"
+
+namespace deformation_enrichment::enrichment {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+// One third of every incident triangle's area: the surface quadrature weight of a vertex.
+Eigen::VectorXd vertexAreas(const mesh::TriangleMesh& surface) {
+  Eigen::VectorXd areas = Eigen::VectorXd::Zero(surface.vertices.cols());
+  for (Eigen::Index f = 0; f < surface.triangles.cols(); ++f) {
+    const Eigen::Vector3d a = surface.vertices.col(surface.triangles(0, f));
+    const Eigen::Vector3d b = surface.vertices.col(surface.triangles(1, f));
+    const Eigen::Vector3d c = surface.vertices.col(surface.triangles(2, f));
+    const double third = (b - a).cross(c - a).norm() / 6.0;
+    for (int k = 0; k < 3; ++k) areas(surface.triangles(k, f)) += third;
+  }
+  return areas;
+}
+
+void checkOptions(const ContactEnricherOptions& o) {
+  if (!(o.stampRadius > 0.0) || !std::isfinite(o.stampRadius))
+    throw InvalidInputError("contact enricher: stamp radius must be positive and finite");
+  if (!(o.descriptors.window.scale > 0.0) || !std::isfinite(o.descriptors.window.scale))
+    throw InvalidInputError("contact enricher: window scale h must be positive and finite");
+  if (!(o.sampleSpacing >= 0.0) || !std::isfinite(o.sampleSpacing))
+    throw InvalidInputError("contact enricher: sample spacing must be >= 0 and finite");
+  if (!(o.stampGain >= 0.0) || !std::isfinite(o.stampGain))
+    throw InvalidInputError("contact enricher: stamp gain must be >= 0 and finite");
+}
+
+}  // namespace
+
+ContactEnricher::ContactEnricher(mesh::TriangleMesh restSurface, const ContactEnricherOptions& options)
+    : options_(options),
+      rest_(std::move(restSurface)),
+      mapper_((checkOptions(options), mesh::validate(rest_), rest_.vertices), options.rimBand, mesh::vertexNormals(rest_)) {
+  restNormals_ = mesh::vertexNormals(rest_);
+  vertexTriangles_.assign(static_cast<std::size_t>(rest_.vertices.cols()), {});
+  for (Eigen::Index f = 0; f < rest_.triangles.cols(); ++f)
+    for (int k = 0; k < 3; ++k) vertexTriangles_[static_cast<std::size_t>(rest_.triangles(k, f))].push_back(static_cast<int>(f));
+  const double spacing = options_.sampleSpacing > 0.0 ? options_.sampleSpacing : options_.descriptors.window.scale / 4.0;
+  // rho integrates the material's indicator (eq. 7): volume samples inside the closed rest surface.
+  siteEvaluator_ = std::make_unique<descriptors::DescriptorEvaluator>(
+      descriptors::sampleClosedSurfaceInterior(rest_, spacing), rest_, std::vector<int>(), options_.descriptors);
+  // mu is fitted on what the run time has: the surface vertices, weighted by their areas.
+  surfaceSampling_ = std::make_unique<descriptors::PointSampling>(rest_.vertices, vertexAreas(rest_));
+  siteCache_.assign(static_cast<std::size_t>(rest_.vertices.cols()), std::nullopt);
+}
+
+ContactEnricher::~ContactEnricher() = default;
+ContactEnricher::ContactEnricher(ContactEnricher&&) noexcept = default;
+ContactEnricher& ContactEnricher::operator=(ContactEnricher&&) noexcept = default;
+
+void ContactEnricher::setExamples(const examples::ExampleSet& set, const ExampleBlenderOptions& blenderOptions) {
+  auto blender = std::make_shared<const ExampleBlender>(set, blenderOptions);
+  if (std::abs(blender->stampRadius() - options_.stampRadius) > 1e-9 * options_.stampRadius)
+    throw InvalidInputError("contact enricher: example stamp radius " + std::to_string(blender->stampRadius()) +
+                            " m differs from the configured " + std::to_string(options_.stampRadius) + " m");
+  std::vector<cv::Mat> stamps;
+  Eigen::VectorXd muNorms(static_cast<Eigen::Index>(set.examples.size()));
+  for (std::size_t i = 0; i < set.examples.size(); ++i) {
+    stamps.push_back(set.examples[i].stamp.clone());
+    muNorms(static_cast<Eigen::Index>(i)) = set.examples[i].mu.values().norm();
+  }
+  // Only now: a rejected set leaves the previous one active.
+  blender_ = std::move(blender);
+  stamps_ = std::move(stamps);
+  muNorms_ = std::move(muNorms);
+}
+
+void ContactEnricher::setStampGain(double gain) {
+  if (!(gain >= 0.0) || !std::isfinite(gain)) throw InvalidInputError("contact enricher: stamp gain must be >= 0 and finite");
+  options_.stampGain = gain;
+}
+
+void ContactEnricher::checkState(const Eigen::Matrix3Xd& current) const {
+  if (current.cols() != rest_.vertices.cols())
+    throw InvalidInputError("contact enricher: " + std::to_string(current.cols()) + " current positions for " +
+                            std::to_string(rest_.vertices.cols()) + " surface vertices");
+  if (!current.allFinite()) throw InvalidInputError("contact enricher: non-finite current surface positions");
+}
+
+Eigen::Vector3d ContactEnricher::currentNormal(const Eigen::Matrix3Xd& current, int vertex) const {
+  Eigen::Vector3d n = Eigen::Vector3d::Zero();
+  for (int f : vertexTriangles_[static_cast<std::size_t>(vertex)]) {
+    const Eigen::Vector3d a = current.col(rest_.triangles(0, f));
+    n += (current.col(rest_.triangles(1, f)) - a).cross(current.col(rest_.triangles(2, f)) - a);  // area-weighted
+  }
+  const double length = n.norm();
+  return length > 0.0 ? Eigen::Vector3d(n / length) : Eigen::Vector3d(restNormals_.col(vertex));
+}
+
+ContactDescription ContactEnricher::describe(const Eigen::Matrix3Xd& current, const Contact& contact) const {
+  checkState(current);
+  if (!contact.point.allFinite()) throw InvalidInputError("contact enricher: non-finite contact point");
+  if (contact.normal && !contact.normal->allFinite()) throw InvalidInputError("contact enricher: non-finite contact normal");
+  ContactDescription d;
+  if (contact.restState) {
+    d.vertex = siteEvaluator_->nearestSurfaceVertex(contact.point);
+    d.p = contact.point;
+  } else {
+    (current.colwise() - contact.point).colwise().squaredNorm().minCoeff(&d.vertex);
+    d.p = rest_.vertices.col(d.vertex);
+  }
+  const auto& opt = options_.descriptors;
+  auto& site = siteCache_[static_cast<std::size_t>(d.vertex)];
+  if (!site) {  // rho depends on the rest shape only: once per rest vertex
+    const descriptors::Window window = descriptors::gatherWindow(siteEvaluator_->sampling(), rest_.vertices.col(d.vertex), opt.window);
+    site = descriptors::densityMoments(window, 0, opt.siteOrder);
+  }
+  const descriptors::Window window = descriptors::gatherWindow(*surfaceSampling_, d.p, opt.window);
+  if (window.empty()) throw InvalidInputError("contact enricher: no surface vertex within the window of the contact");
+  const Eigen::Vector3d restNormal = restNormals_.col(d.vertex);
+  const Eigen::Vector3d deformedNormal = currentNormal(current, d.vertex);
+  // eq. (10)-(11) in kinematics' surface mode: the normals complete F where the samples are coplanar.
+  const descriptors::DeformationDescriptor deformation = descriptors::deformationDescriptor(
+      window, rest_.vertices, current, opt.deformationOrder, &restNormal, &deformedNormal, opt.mls);
+  const Eigen::Vector3d normal = contact.normal ? *contact.normal : restNormal;
+  const descriptors::StampingFrame frame = descriptors::stampingFrame(normal, *site, &deformation.mu, opt.frameTolerance);
+  d.B = frame.B;
+  d.R = deformation.R;
+  d.frameRule = frame.rule;
+  d.rho = site->transformed(d.B.transpose());  // world -> frame B (Appendix B)
+  d.mu = deformation.mu.transformed(d.B.transpose());
+  return d;
+}
+
+void ContactEnricher::enrich(const Eigen::Matrix3Xd& current, const std::vector<Contact>& contacts, EnrichmentResult& out) {
+  const auto start = Clock::now();
+  out.contacts.clear();
+  out.timings = EnrichmentTimings();
+  out.enrichment.vertices.clear();
+  out.enrichment.displacements.resize(3, 0);
+  if (contacts.empty()) return;  // nothing touches the surface: no descriptor, blend or mapping work
+  if (!blender_) throw InvalidInputError("contact enricher: no example set loaded");
+  checkState(current);
+  stampScratch_.resize(contacts.size());
+  for (std::size_t c = 0; c < contacts.size(); ++c) {
+    auto t0 = Clock::now();
+    ContactOutcome outcome;
+    outcome.toolId = contacts[c].toolId;
+    outcome.description = describe(current, contacts[c]);
+    out.timings.descriptorSeconds += secondsSince(t0);
+    t0 = Clock::now();
+    blender_->blend(outcome.description.rho, outcome.description.mu, blendScratch_);  // eq. 15 -> RBF -> eq. 16
+    outcome.weights = blendScratch_.rbf.weights;
+    outcome.confidence = blendScratch_.rbf.confidence;
+    ContactStamp& stamp = stampScratch_[c];
+    stamp.contact = outcome.description.p;
+    stamp.frame = outcome.description.B;
+    stamp.rotation = outcome.description.R;
+    stamp.radius = blender_->stampRadius();
+    if (options_.magnitudeAware) {
+      // Psi = sum_i w~_i (|mu| / |mu[i]|) Psi[i]; examples without deformation (|mu[i]| = 0) contribute nothing.
+      const double muNorm = outcome.description.mu.values().norm();
+      Eigen::VectorXd scaled = outcome.weights;
+      for (Eigen::Index i = 0; i < scaled.size(); ++i) scaled(i) = muNorms_(i) > 0.0 ? scaled(i) * muNorm / muNorms_(i) : 0.0;
+      blendScratch_.stamp = blendStamps(stamps_, scaled);
+    }
+    if (options_.stampGain == 1.0) blendScratch_.stamp.copyTo(stamp.stamp);
+    else blendScratch_.stamp.convertTo(stamp.stamp, -1, options_.stampGain);
+    out.timings.blendSeconds += secondsSince(t0);
+    out.contacts.push_back(std::move(outcome));
+  }
+  const auto t0 = Clock::now();
+  mapper_.map(stampScratch_, out.enrichment);  // eq. (1) with the multi-contact rim rule
+  out.timings.mapSeconds = secondsSince(t0);
+  out.timings.totalSeconds = secondsSince(start);
+}
+
+}  // namespace deformation_enrichment::enrichment
