@@ -45,7 +45,8 @@ protected:
     ASSERT_TRUE(waitFor([&] {
       return statePub_.getNumSubscribers() > 0 && contactsPub_.getNumSubscribers() > 0 &&
              posePub_.getNumSubscribers() > 0 && restPub_.getNumSubscribers() > 0 &&
-             enrichedSub_.getNumPublishers() > 0 && statusSub_.getNumPublishers() > 0;
+             enrichedSub_.getNumPublishers() > 0 && statusSub_.getNumPublishers() > 0 &&
+             logSub_.getNumPublishers() >= 2;  // this test and the enrichment node (or its manager)
     }, 20.0))
         << "the enrichment node did not come up";
     setRest(slabSurface(8));

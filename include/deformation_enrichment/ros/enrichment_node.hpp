@@ -52,6 +52,7 @@ private:
   // Parameters (documented in config/enrichment.yaml).
   std::string toolPoseId_;
   double toolContactDistance_ = 0.003;
+  double errorThrottle_ = 1.0;  // [s] between error logs of one input and kind of problem
   MarkerOptions markerOptions_;
   SiteSegmentationParameters segmentation_;
 

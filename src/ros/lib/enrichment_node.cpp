@@ -19,6 +19,7 @@ EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
       contacts_(tfBuffer_, ros::Duration(privateNh.param("contact_timeout", 0.5))),
       diagnostics_(nh, privateNh) {
   toolPoseId_ = privateNh_.param<std::string>("tool_pose_id", "tool_pose");
+  errorThrottle_ = privateNh_.param("error_throttle", 1.0);
   toolContactDistance_ = privateNh_.param("tool_contact_distance", 0.003);
   markerOptions_.maxTriangles = privateNh_.param("marker_max_triangles", 50000);
   markerOptions_.displacementScale = privateNh_.param("marker_displacement_scale", 0.002);
@@ -70,7 +71,7 @@ void EnrichmentNode::reject(const std::string& input, const std::string& why) {
   kind.erase(std::remove_if(kind.begin(), kind.end(), [](unsigned char c) { return std::isdigit(c); }), kind.end());
   const ros::WallTime now = ros::WallTime::now();
   auto& last = lastLogged_[kind];
-  if (last.isZero() || (now - last).toSec() >= 1.0) {
+  if (last.isZero() || (now - last).toSec() >= errorThrottle_) {
     last = now;
     ROS_ERROR("dropped %s: %s (keeping the last good state)", input.c_str(), why.c_str());
   }
