@@ -8,13 +8,18 @@
 #include <rosgraph_msgs/Log.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <limits>
 #include <mutex>
 #include <set>
 
 #include "deformation_enrichment/EnrichmentStatus.h"
+#include "deformation_enrichment/LoadExampleSet.h"
 #include "deformation_enrichment/SegmentSites.h"
+#include "deformation_enrichment/enrichment/contact_enricher.hpp"
+#include "deformation_enrichment/examples/example_set_io.hpp"
 #include "deformation_enrichment/ToolContactArray.h"
 #include "deformation_enrichment/mesh/grid_tet_mesh.hpp"
 #include "deformation_enrichment/mesh/tet_surface.hpp"
@@ -278,6 +283,96 @@ TEST_F(EnrichmentNodeTest, SegmentSitesLabelsEveryVertexSymmetricallyAndRejectsB
   EXPECT_FALSE(call.response.success);
   EXPECT_FALSE(call.response.message.empty());
   EXPECT_TRUE(roundTrip(goodState())) << "the node must keep enriching after a failed segmentation";
+}
+
+TEST_F(EnrichmentNodeTest, ExampleSetEnrichesOnlyAtTheContactSurvivesACorruptSetAndFadesOnLiftOff) {
+  setRest(slabSurface(20));
+  // A one-example set made with the package's own pipeline: a dent at the top centre, stamp 1 mm inwards.
+  Eigen::Matrix3Xd dented = rest_.vertices;
+  for (Eigen::Index v = 0; v < dented.cols(); ++v)
+    dented(2, v) -= 0.002 * std::exp(-dented.col(v).head<2>().squaredNorm() / (2 * 0.008 * 0.008)) * dented(2, v) / 0.02;
+  de::enrichment::ContactEnricherOptions options;
+  options.descriptors.window.scale = 0.006;
+  options.stampRadius = 0.02;
+  const de::enrichment::ContactEnricher describer(rest_, options);
+  de::enrichment::Contact contact;
+  contact.point = Eigen::Vector3d(0, 0, 0.02);
+  const auto description = describer.describe(dented, contact);
+  de::examples::Example example;
+  example.contact = description.p;
+  example.frame = description.B;
+  example.rho = description.rho;
+  example.mu = description.mu;
+  example.stamp = cv::Mat(64, 64, CV_32FC3, cv::Scalar(0.0f, 0.0f, -0.001f));
+  example.stampRadius = 0.02;
+  de::examples::ExampleSet set;
+  set.metadata.scene = "rostest";
+  set.metadata.material["window_scale_m"] = 0.006;
+  set.examples.push_back(example);
+  const std::string good = ::testing::TempDir() + "de_rostest_set", bad = ::testing::TempDir() + "de_rostest_bad_set";
+  de::examples::saveExampleSet(set, good);
+
+  de::LoadExampleSet load;
+  load.request.path = good;
+  ASSERT_TRUE(ros::service::waitForService("enrichment/load_example_set", 10000));
+  ASSERT_TRUE(ros::service::call("enrichment/load_example_set", load));
+  ASSERT_TRUE(load.response.success) << load.response.message;
+  EXPECT_EQ(load.response.num_examples, 1u);
+
+  auto touchAndCheck = [&](const char* when) {
+    de::ToolContactArray contacts;
+    contacts.header = header();
+    de::ToolContact tool;
+    tool.tool_id = "PSM1";
+    tool.in_contact = true;
+    tool.position.z = 0.018;
+    tool.normal.z = 1.0;
+    contacts.contacts.push_back(tool);
+    contactsPub_.publish(contacts);
+    ros::WallDuration(0.3).sleep();
+    sensor_msgs::PointCloud2 state = cloudFromPositions(dented.cast<float>(), contacts.header);
+    ASSERT_TRUE(roundTrip(state)) << when;
+    const Eigen::Matrix3Xf in = de::ros_layer::positionsFromCloud(state);
+    const Eigen::Matrix3Xf out = de::ros_layer::positionsFromCloud(*findEnriched(state.header.stamp));
+    ASSERT_TRUE(out.allFinite());
+    int touched = 0;
+    for (Eigen::Index v = 0; v < in.cols(); ++v) {
+      if ((rest_.vertices.col(v) - Eigen::Vector3d(0, 0, 0.02)).norm() > 0.021) {
+        EXPECT_EQ(std::memcmp(in.col(v).data(), out.col(v).data(), 3 * sizeof(float)), 0) << when << ": vertex " << v;
+      } else if ((out.col(v) - in.col(v)).norm() > 0.0f) {
+        ++touched;
+      }
+    }
+    EXPECT_GT(touched, 0) << when << ": no detail at the contact";
+    Eigen::Index centre = 0;
+    (rest_.vertices.colwise() - Eigen::Vector3d(0, 0, 0.02)).colwise().squaredNorm().minCoeff(&centre);
+    EXPECT_NEAR(out(2, centre) - in(2, centre), -0.001, 2e-4) << when << ": the stamp's 1 mm at the contact";
+    EXPECT_TRUE(waitFor([&] {
+      std::lock_guard<std::mutex> lock(mutex_);
+      for (const auto& s : statuses_)
+        if (s->header.stamp == state.header.stamp && s->vertices_touched > 0 && s->confidence > 0.5f &&
+            s->example_ids == std::vector<uint32_t>{0})
+          return true;
+      return false;
+    }, 3.0)) << when << ": status without the example";
+  };
+  touchAndCheck("first set");
+
+  std::filesystem::create_directories(bad);
+  std::ofstream(bad + "/manifest.json") << "{ not json";
+  load.request.path = bad;
+  ASSERT_TRUE(ros::service::call("enrichment/load_example_set", load));
+  EXPECT_FALSE(load.response.success);
+  EXPECT_EQ(load.response.num_examples, 1u) << "the old set must stay active";
+  touchAndCheck("after a corrupt set");
+
+  de::ToolContactArray lifted;
+  lifted.header = header();
+  contactsPub_.publish(lifted);
+  ros::WallDuration(0.3).sleep();
+  sensor_msgs::PointCloud2 state = cloudFromPositions(dented.cast<float>(), lifted.header);
+  ASSERT_TRUE(roundTrip(state));
+  EXPECT_EQ(findEnriched(state.header.stamp)->data, state.data) << "detail must vanish when the tool lifts off";
 }
 
 }  // namespace

@@ -17,8 +17,11 @@
 #include <optional>
 #include <string>
 
+#include "deformation_enrichment/LoadExampleSet.h"
 #include "deformation_enrichment/SegmentSites.h"
 #include "deformation_enrichment/ToolContactArray.h"
+#include "deformation_enrichment/enrichment/contact_enricher.hpp"
+#include "deformation_enrichment/examples/example.hpp"
 #include "deformation_enrichment/mesh/triangle_mesh.hpp"
 #include "deformation_enrichment/ros/contact_tracker.hpp"
 #include "deformation_enrichment/ros/enrichment_markers.hpp"
@@ -39,6 +42,12 @@ private:
   void onMarkerTimer(const ros::TimerEvent&);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
   bool onSegmentSites(SegmentSites::Request& request, SegmentSites::Response& response);
+  bool onLoadExampleSet(LoadExampleSet::Request& request, LoadExampleSet::Response& response);
+  /// Loads a set and (if a rest mesh is there) builds the enricher for it; throws, leaving the old ones.
+  void loadExampleSet(const std::string& path);
+  /// A new ContactEnricher for `rest` configured from `set` (window scale and stamp radius of the set).
+  std::unique_ptr<enrichment::ContactEnricher> makeEnricher(const mesh::TriangleMesh& rest,
+                                                            const examples::ExampleSet& set) const;
 
   void setRestMesh(mesh::TriangleMesh rest, const std::string& source);
   /// Logs (throttled per input and kind of problem) why an input was dropped, and counts it.
@@ -52,7 +61,8 @@ private:
   // Parameters (documented in config/enrichment.yaml).
   std::string toolPoseId_;
   double toolContactDistance_ = 0.003;
-  double errorThrottle_ = 1.0;  // [s] between error logs of one input and kind of problem
+  double errorThrottle_ = 1.0;
+  double stampGain_ = 1.0;  // [s] between error logs of one input and kind of problem
   MarkerOptions markerOptions_;
   SiteSegmentationParameters segmentation_;
 
@@ -61,7 +71,7 @@ private:
   // Slow services run on their own queue and thread, so the enrichment never waits for them.
   ros::CallbackQueue serviceQueue_;
   std::unique_ptr<ros::AsyncSpinner> serviceSpinner_;
-  ros::ServiceServer segmentSitesService_;
+  ros::ServiceServer segmentSitesService_, loadExampleSetService_;
   ros::Timer markerTimer_, diagnosticsTimer_;
   diagnostic_updater::Updater diagnostics_;
   double minRate_ = 1.0, maxRate_ = 1000.0;
@@ -69,6 +79,9 @@ private:
 
   std::mutex mutex_;  // nodelet managers call back from several threads
   std::optional<mesh::TriangleMesh> rest_;
+  std::optional<examples::ExampleSet> exampleSet_;              // active set (kept when a load fails)
+  std::unique_ptr<enrichment::ContactEnricher> enricher_;       // rest mesh + active set
+  enrichment::EnrichmentResult enrichment_;                     // scratch, reused per state
   Eigen::Matrix3Xd restNormals_;
   std::string meshFrame_;
   sensor_msgs::PointCloud2ConstPtr lastInput_;     // last good mesh state

@@ -6,6 +6,7 @@
 
 #include "deformation_enrichment/EnrichmentStatus.h"
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/examples/example_set_io.hpp"
 #include "deformation_enrichment/mesh/mesh_io.hpp"
 #include "deformation_enrichment/mesh/mesh_state.hpp"
 #include "deformation_enrichment/ros/conversions.hpp"
@@ -25,6 +26,7 @@ EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
   markerOptions_.displacementScale = privateNh_.param("marker_displacement_scale", 0.002);
   segmentation_.scale = privateNh_.param("descriptor_scale", 0.005);
   segmentation_.sampleSpacing = privateNh_.param("segmentation_sample_spacing", 0.0);
+  stampGain_ = privateNh_.param("stamp_gain", 1.0);
   minRate_ = privateNh_.param("expected_rate_min", 1.0);
   maxRate_ = privateNh_.param("expected_rate_max", 1000.0);
 
@@ -55,8 +57,18 @@ EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
   ros::NodeHandle serviceNh(privateNh_);
   serviceNh.setCallbackQueue(&serviceQueue_);
   segmentSitesService_ = serviceNh.advertiseService("segment_sites", &EnrichmentNode::onSegmentSites, this);
+  loadExampleSetService_ = serviceNh.advertiseService("load_example_set", &EnrichmentNode::onLoadExampleSet, this);
   serviceSpinner_ = std::make_unique<ros::AsyncSpinner>(1, &serviceQueue_);
   serviceSpinner_->start();
+
+  const std::string setPath = privateNh_.param<std::string>("example_set", "");
+  if (!setPath.empty()) {
+    try {
+      loadExampleSet(setPath);
+    } catch (const Error& e) {
+      ROS_ERROR("example set '%s' rejected: %s (enriching nothing until one loads)", setPath.c_str(), e.what());
+    }
+  }
 
   const double markerRate = privateNh_.param("marker_rate", 5.0);
   if (markerRate > 0.0) markerTimer_ = nh_.createTimer(ros::Duration(1.0 / markerRate), &EnrichmentNode::onMarkerTimer, this);
@@ -82,6 +94,15 @@ void EnrichmentNode::setRestMesh(mesh::TriangleMesh rest, const std::string& sou
   restNormals_ = mesh::vertexNormals(rest);
   ROS_INFO("rest mesh from %s: %ld vertices, %ld triangles", source.c_str(), static_cast<long>(rest.numVertices()),
            static_cast<long>(rest.numTriangles()));
+  // A new topology (e.g. after a cut) needs a new enricher; the loaded examples stay.
+  if (exampleSet_) {
+    try {
+      enricher_ = makeEnricher(rest, *exampleSet_);
+    } catch (const Error& e) {
+      enricher_.reset();
+      ROS_ERROR("cannot enrich the new rest mesh: %s", e.what());
+    }
+  }
   rest_ = std::move(rest);
   // A new topology invalidates states of the old one.
   lastInput_.reset();
@@ -114,24 +135,62 @@ void EnrichmentNode::onMeshState(const sensor_msgs::PointCloud2ConstPtr& message
   meshFrame_ = message->header.frame_id;
   const std::vector<TrackedContact> active = contacts_.active(message->header.stamp);
 
-  // Until example sets exist (issue 5) the enrichment adds nothing: the input itself is the enriched state,
-  // published without a copy (nodelet subscribers share the pointer).
+  EnrichmentStatus status;
+  status.header = message->header;
+  // No contact or no examples: the input itself is the enriched state, published without a copy
+  // (nodelet subscribers share the pointer). Otherwise only the touched vertices change.
+  sensor_msgs::PointCloud2ConstPtr enriched = message;
+  Eigen::Matrix3Xf enrichedPositions = positions;
+  if (enricher_ && !active.empty()) {
+    try {
+      std::vector<enrichment::Contact> contacts;
+      for (size_t c = 0; c < active.size(); ++c) {
+        enrichment::Contact contact;
+        contact.point = active[c].position;
+        contact.restState = false;  // contacts live in the current (mesh-state) frame
+        contact.toolId = static_cast<int>(c);
+        contacts.push_back(contact);
+      }
+      const Eigen::Matrix3Xd current = positions.cast<double>();
+      enricher_->enrich(current, contacts, enrichment_);
+      const auto& touched = enrichment_.enrichment;
+      for (size_t k = 0; k < touched.vertices.size(); ++k)
+        enrichedPositions.col(touched.vertices[k]) += touched.displacements.col(static_cast<Eigen::Index>(k)).cast<float>();
+      if (!enrichedPositions.allFinite()) throw NumericalError("enrichment produced a non-finite position");
+      if (!touched.vertices.empty()) {
+        auto copy = boost::make_shared<sensor_msgs::PointCloud2>(*message);
+        writePositions(enrichedPositions, *copy);
+        enriched = copy;
+      }
+      status.vertices_touched = static_cast<uint32_t>(touched.vertices.size());
+      for (const auto& outcome : enrichment_.contacts) {
+        status.confidence = std::max(status.confidence, static_cast<float>(outcome.confidence));
+        for (Eigen::Index i = 0; i < outcome.weights.size(); ++i) {
+          if (std::abs(outcome.weights[i]) < 1e-3) continue;  // report the examples that matter
+          status.example_ids.push_back(static_cast<uint32_t>(i));
+          status.weights.push_back(static_cast<float>(outcome.weights[i]));
+        }
+      }
+    } catch (const Error& e) {
+      reject("contacts", std::string("enrichment skipped for this state: ") + e.what());
+      enriched = message;
+      enrichedPositions = positions;
+      status = EnrichmentStatus();
+      status.header = message->header;
+    }
+  }
   lastInput_ = message;
-  lastEnriched_ = message;
+  lastEnriched_ = enriched;
   lastPositions_ = std::move(positions);
-  lastEnrichedPositions_ = lastPositions_;
+  lastEnrichedPositions_ = std::move(enrichedPositions);
   enrichedPub_.publish(lastEnriched_);
   outputRate_->tick();
   ++statesOut_;
 
   lastComputeMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   maxComputeMs_ = std::max(maxComputeMs_, lastComputeMs_);
-  EnrichmentStatus status;
-  status.header = message->header;
   for (const auto& contact : active) status.tool_ids.push_back(contact.toolId);
-  status.confidence = 0.0f;
   status.compute_ms = static_cast<float>(lastComputeMs_);
-  status.vertices_touched = 0;
   statusPub_.publish(status);
 }
 
@@ -162,6 +221,54 @@ void EnrichmentNode::onMarkerTimer(const ros::TimerEvent&) {
   const auto active = contacts_.active(lastInput_->header.stamp);
   markersPub_.publish(enrichmentMarkers(lastInput_->header, *rest_, lastPositions_, lastEnrichedPositions_, active,
                                         markerOptions_));
+}
+
+std::unique_ptr<enrichment::ContactEnricher> EnrichmentNode::makeEnricher(const mesh::TriangleMesh& rest,
+                                                                          const examples::ExampleSet& set) const {
+  enrichment::ContactEnricherOptions options;
+  options.descriptors.window.scale = segmentation_.scale;
+  const auto h = set.metadata.material.find("window_scale_m");  // the scale the examples were described with
+  if (h != set.metadata.material.end()) options.descriptors.window.scale = h->second;
+  options.stampRadius = set.examples.front().stampRadius;
+  options.stampGain = stampGain_;
+  auto enricher = std::make_unique<enrichment::ContactEnricher>(rest, options);
+  enricher->setExamples(set);
+  return enricher;
+}
+
+void EnrichmentNode::loadExampleSet(const std::string& path) {
+  examples::ExampleSet set = examples::loadExampleSet(path);
+  if (set.examples.empty()) throw InvalidInputError("example set '" + path + "' has no examples");
+  std::optional<mesh::TriangleMesh> rest;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    rest = rest_;
+  }
+  // Built outside the lock (interior sampling, kernel-width fitting): the enrichment goes on meanwhile.
+  std::unique_ptr<enrichment::ContactEnricher> enricher = rest ? makeEnricher(*rest, set) : nullptr;
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (rest_ && (!rest || rest_->numVertices() != rest->numVertices() || rest_->numTriangles() != rest->numTriangles() ||
+                rest_->triangles != rest->triangles))
+    enricher = makeEnricher(*rest_, set);  // the rest mesh changed while building
+  exampleSet_ = std::move(set);
+  enricher_ = std::move(enricher);
+  ROS_INFO("example set '%s' active: %zu examples", path.c_str(), exampleSet_->examples.size());
+}
+
+bool EnrichmentNode::onLoadExampleSet(LoadExampleSet::Request& request, LoadExampleSet::Response& response) {
+  try {
+    loadExampleSet(request.path);
+    response.success = true;
+    response.num_examples = static_cast<uint32_t>(exampleSet_->examples.size());
+    response.message = "loaded " + std::to_string(response.num_examples) + " examples";
+  } catch (const Error& e) {
+    response.success = false;
+    response.message = e.what();
+    std::lock_guard<std::mutex> lock(mutex_);
+    response.num_examples = exampleSet_ ? static_cast<uint32_t>(exampleSet_->examples.size()) : 0;
+    ROS_ERROR("load_example_set '%s' rejected, the previous set stays active: %s", request.path.c_str(), e.what());
+  }
+  return true;
 }
 
 bool EnrichmentNode::onSegmentSites(SegmentSites::Request& request, SegmentSites::Response& response) {
