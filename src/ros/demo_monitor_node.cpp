@@ -26,7 +26,8 @@ int main(int argc, char** argv) {
   const double duration = pnh.param("duration", 10.0);
   const std::string summaryFile = pnh.param<std::string>("summary_file", "");
 
-  uint64_t inputs = 0, outputs = 0, nonFinite = 0, statuses = 0, withContact = 0;
+  uint64_t inputs = 0, outputs = 0, nonFinite = 0, statuses = 0, withContact = 0, enrichedStates = 0;
+  double maxConfidence = 0.0, maxTouched = 0.0;
   std::vector<double> latencyMs;
   ros::Subscriber in = nh.subscribe<sensor_msgs::PointCloud2>("mesh_state", 10, [&](const auto&) { ++inputs; });
   ros::Subscriber out = nh.subscribe<sensor_msgs::PointCloud2>(
@@ -38,6 +39,9 @@ int main(int argc, char** argv) {
   ros::Subscriber status = nh.subscribe<de::EnrichmentStatus>("status", 10, [&](const de::EnrichmentStatusConstPtr& s) {
     ++statuses;
     if (!s->tool_ids.empty()) ++withContact;
+    if (s->vertices_touched > 0) ++enrichedStates;
+    maxConfidence = std::max(maxConfidence, static_cast<double>(s->confidence));
+    maxTouched = std::max(maxTouched, static_cast<double>(s->vertices_touched));
   });
 
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(duration);
@@ -48,9 +52,11 @@ int main(int argc, char** argv) {
   char summary[1024];
   std::snprintf(summary, sizeof(summary),
                 "{\"seconds\": %.1f, \"mesh_states_in\": %lu, \"enriched_out\": %lu, \"status_messages\": %lu, "
-                "\"states_with_contact\": %lu, \"non_finite_outputs\": %lu, \"latency_ms\": {\"p50\": %.3f, "
+                "\"states_with_contact\": %lu, \"states_with_detail\": %lu, \"max_vertices_touched\": %.0f, "
+                "\"max_confidence\": %.3f, \"non_finite_outputs\": %lu, \"latency_ms\": {\"p50\": %.3f, "
                 "\"p90\": %.3f, \"p99\": %.3f, \"max\": %.3f}}",
-                duration, inputs, outputs, statuses, withContact, nonFinite, percentile(latencyMs, 50),
+                duration, inputs, outputs, statuses, withContact, enrichedStates, maxTouched, maxConfidence, nonFinite,
+                percentile(latencyMs, 50),
                 percentile(latencyMs, 90), percentile(latencyMs, 99), percentile(latencyMs, 100));
   std::printf("demo summary: %s\n", summary);
   std::fflush(stdout);
