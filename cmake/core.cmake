@@ -53,6 +53,12 @@ endforeach()
 # Unit tests (GoogleTest, no ROS master): test/unit/<module>/*.cpp becomes the test unit_<module>.
 if(DE_BUILD_TESTS)
   find_package(GTest REQUIRED)
+  # Tests that run the command-line tools find them here (catkin puts executables beside each other).
+  set(DE_TOOL_DIR "${CMAKE_BINARY_DIR}")
+  if(DE_TOOL_TARGETS)
+    list(GET DE_TOOL_TARGETS 0 first_tool)
+    set(DE_TOOL_DIR "$<TARGET_FILE_DIR:${first_tool}>")
+  endif()
   file(GLOB DE_UNIT_DIRS LIST_DIRECTORIES true ${PROJECT_SOURCE_DIR}/test/unit/*)
   foreach(unit_dir ${DE_UNIT_DIRS})
     if(IS_DIRECTORY ${unit_dir})
@@ -62,8 +68,11 @@ if(DE_BUILD_TESTS)
         add_executable(unit_${module} ${unit_sources})
         target_compile_options(unit_${module} PRIVATE ${DE_WARNINGS})
         target_compile_definitions(unit_${module} PRIVATE
-          DE_SOURCE_DIR="${PROJECT_SOURCE_DIR}" DE_TOOL_DIR="$<TARGET_FILE_DIR:deformation_enrichment_core>")
+          DE_SOURCE_DIR="${PROJECT_SOURCE_DIR}" DE_TOOL_DIR="${DE_TOOL_DIR}")
         target_link_libraries(unit_${module} deformation_enrichment_core GTest::gtest GTest::gtest_main)
+        if(DE_TOOL_TARGETS)
+          add_dependencies(unit_${module} ${DE_TOOL_TARGETS})
+        endif()
         add_test(NAME unit_${module} COMMAND unit_${module}
           --gtest_output=xml:${CMAKE_BINARY_DIR}/test_results/${PROJECT_NAME}/gtest-unit_${module}.xml
           WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})

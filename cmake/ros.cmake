@@ -2,7 +2,7 @@
 
 set(DE_CATKIN_COMPONENTS
   roscpp message_generation std_msgs geometry_msgs sensor_msgs visualization_msgs shape_msgs pcl_msgs
-  diagnostic_msgs diagnostic_updater tf2 tf2_ros tf2_eigen tf2_geometry_msgs pcl_conversions urdf nodelet pluginlib)
+  diagnostic_msgs diagnostic_updater tf2 tf2_ros tf2_eigen tf2_geometry_msgs pcl_conversions urdf nodelet pluginlib rosbag)
 find_package(catkin REQUIRED COMPONENTS ${DE_CATKIN_COMPONENTS})
 
 add_message_files(DIRECTORY msg FILES ToolContact.msg ToolContactArray.msg EnrichmentStatus.msg)
@@ -44,6 +44,16 @@ foreach(node_source ${DE_NODE_SOURCES})
   list(APPEND DE_NODE_TARGETS ${node})
 endforeach()
 
+# ROS command-line tools (rosbag and friends): src/ros/de_<name>.cpp becomes de_<name>.
+file(GLOB DE_ROS_TOOL_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/ros/de_*.cpp)
+foreach(tool_source ${DE_ROS_TOOL_SOURCES})
+  get_filename_component(tool ${tool_source} NAME_WE)
+  add_executable(${tool} ${tool_source})
+  target_compile_options(${tool} PRIVATE ${DE_WARNINGS})
+  target_link_libraries(${tool} deformation_enrichment_ros)
+  list(APPEND DE_NODE_TARGETS ${tool})
+endforeach()
+
 install(TARGETS deformation_enrichment_core deformation_enrichment_ros deformation_enrichment_nodelets
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
@@ -74,4 +84,8 @@ if(CATKIN_ENABLE_TESTING)
   add_dependencies(test_enrichment_node enrichment_node deformation_enrichment_nodelets)
   add_rostest(test/ros/enrichment_nodelet.test DEPENDENCIES test_enrichment_node)
   add_rostest(test/ros/demo.test DEPENDENCIES ${DE_NODE_TARGETS})
+  add_rostest_gtest(test_shape_space_server test/ros/shape_space_server.test test/ros/test_shape_space_server.cpp)
+  target_compile_options(test_shape_space_server PRIVATE ${DE_WARNINGS})
+  target_link_libraries(test_shape_space_server deformation_enrichment_ros)
+  add_dependencies(test_shape_space_server ${DE_NODE_TARGETS})
 endif()

@@ -7,8 +7,9 @@ export ROS_HOME="$DE_BUILD/ros_home" ROS_HOSTNAME="${ROS_HOSTNAME:-127.0.0.1}"
 mkdir -p "$ROS_HOME"
 
 de_build() {  # de_build [extra targets...]: configure (Release) and build the package and the given targets
-  cmake -S "$DE_ROOT" -B "$DE_BUILD" -DCMAKE_BUILD_TYPE=Release >"$DE_BUILD.configure.log" 2>&1 ||
-    { cat "$DE_BUILD.configure.log"; return 1; }
+  mkdir -p "$DE_BUILD"
+  cmake -S "$DE_ROOT" -B "$DE_BUILD" -DCMAKE_BUILD_TYPE=Release >"$DE_BUILD/configure.log" 2>&1 ||
+    { cat "$DE_BUILD/configure.log"; return 1; }
   cmake --build "$DE_BUILD" -j"$(nproc)" || return 1
   local target
   for target in "$@"; do cmake --build "$DE_BUILD" -j"$(nproc)" --target "$target" || return 1; done

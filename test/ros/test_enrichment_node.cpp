@@ -11,8 +11,10 @@
 #include <functional>
 #include <limits>
 #include <mutex>
+#include <set>
 
 #include "deformation_enrichment/EnrichmentStatus.h"
+#include "deformation_enrichment/SegmentSites.h"
 #include "deformation_enrichment/ToolContactArray.h"
 #include "deformation_enrichment/mesh/grid_tet_mesh.hpp"
 #include "deformation_enrichment/mesh/tet_surface.hpp"
@@ -248,6 +250,33 @@ TEST_F(EnrichmentNodeTest, MarkersForSubscribersAndDiagnostics) {
   EXPECT_EQ(markers->markers[0].points.size(), 3u * rest_.numTriangles());
   EXPECT_EQ(markers->markers[0].header.frame_id, "slab");
   EXPECT_TRUE(waitFor([&] { return diagnostics != nullptr; }, 5.0)) << "no /diagnostics from the node";
+}
+
+TEST_F(EnrichmentNodeTest, SegmentSitesLabelsEveryVertexSymmetricallyAndRejectsBadRequests) {
+  ASSERT_TRUE(ros::service::waitForService("enrichment/segment_sites", 10000));
+  de::SegmentSites call;
+  call.request.regions = 3;
+  ASSERT_TRUE(ros::service::call("enrichment/segment_sites", call));
+  ASSERT_TRUE(call.response.success) << call.response.message;
+  ASSERT_EQ(call.response.labels.size(), static_cast<size_t>(rest_.numVertices()));
+  EXPECT_EQ(std::set<uint32_t>(call.response.labels.begin(), call.response.labels.end()).size(), 3u);
+  // The slab's four top corners are congruent sites; the top centre is not a corner.
+  auto vertexAt = [&](double x, double y, double z) {
+    Eigen::Index best = 0;
+    (rest_.vertices.colwise() - Eigen::Vector3d(x, y, z)).colwise().squaredNorm().minCoeff(&best);
+    return call.response.labels[static_cast<size_t>(best)];
+  };
+  const uint32_t corner = vertexAt(0.05, 0.05, 0.02);
+  EXPECT_EQ(vertexAt(-0.05, 0.05, 0.02), corner);
+  EXPECT_EQ(vertexAt(-0.05, -0.05, 0.02), corner);
+  EXPECT_EQ(vertexAt(0.05, -0.05, 0.02), corner);
+  EXPECT_NE(vertexAt(0.0, 0.0, 0.02), corner);
+
+  call.request.regions = 0;
+  ASSERT_TRUE(ros::service::call("enrichment/segment_sites", call));
+  EXPECT_FALSE(call.response.success);
+  EXPECT_FALSE(call.response.message.empty());
+  EXPECT_TRUE(roundTrip(goodState())) << "the node must keep enriching after a failed segmentation";
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <diagnostic_updater/publisher.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <pcl_msgs/PolygonMesh.h>
+#include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <tf2_ros/transform_listener.h>
@@ -16,10 +17,12 @@
 #include <optional>
 #include <string>
 
+#include "deformation_enrichment/SegmentSites.h"
 #include "deformation_enrichment/ToolContactArray.h"
 #include "deformation_enrichment/mesh/triangle_mesh.hpp"
 #include "deformation_enrichment/ros/contact_tracker.hpp"
 #include "deformation_enrichment/ros/enrichment_markers.hpp"
+#include "deformation_enrichment/ros/site_regions.hpp"
 
 namespace deformation_enrichment::ros_layer {
 
@@ -35,6 +38,7 @@ private:
   void onToolPose(const geometry_msgs::PoseStampedConstPtr& message);
   void onMarkerTimer(const ros::TimerEvent&);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
+  bool onSegmentSites(SegmentSites::Request& request, SegmentSites::Response& response);
 
   void setRestMesh(mesh::TriangleMesh rest, const std::string& source);
   /// Logs (throttled per input and kind of problem) why an input was dropped, and counts it.
@@ -49,9 +53,14 @@ private:
   std::string toolPoseId_;
   double toolContactDistance_ = 0.003;
   MarkerOptions markerOptions_;
+  SiteSegmentationParameters segmentation_;
 
   ros::Subscriber restMeshSub_, meshStateSub_, contactsSub_, toolPoseSub_;
-  ros::Publisher enrichedPub_, statusPub_, markersPub_;
+  ros::Publisher enrichedPub_, statusPub_, markersPub_, siteRegionsPub_;
+  // Slow services run on their own queue and thread, so the enrichment never waits for them.
+  ros::CallbackQueue serviceQueue_;
+  std::unique_ptr<ros::AsyncSpinner> serviceSpinner_;
+  ros::ServiceServer segmentSitesService_;
   ros::Timer markerTimer_, diagnosticsTimer_;
   diagnostic_updater::Updater diagnostics_;
   double minRate_ = 1.0, maxRate_ = 1000.0;

@@ -22,6 +22,8 @@ EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
   toolContactDistance_ = privateNh_.param("tool_contact_distance", 0.003);
   markerOptions_.maxTriangles = privateNh_.param("marker_max_triangles", 50000);
   markerOptions_.displacementScale = privateNh_.param("marker_displacement_scale", 0.002);
+  segmentation_.scale = privateNh_.param("descriptor_scale", 0.005);
+  segmentation_.sampleSpacing = privateNh_.param("segmentation_sample_spacing", 0.0);
   minRate_ = privateNh_.param("expected_rate_min", 1.0);
   maxRate_ = privateNh_.param("expected_rate_max", 1000.0);
 
@@ -47,6 +49,13 @@ EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
   meshStateSub_ = nh_.subscribe("mesh_state", 2, &EnrichmentNode::onMeshState, this);
   contactsSub_ = nh_.subscribe("contacts", 10, &EnrichmentNode::onContacts, this);
   toolPoseSub_ = nh_.subscribe("tool_pose", 10, &EnrichmentNode::onToolPose, this);
+
+  siteRegionsPub_ = privateNh_.advertise<visualization_msgs::MarkerArray>("site_regions", 1, /*latch=*/true);
+  ros::NodeHandle serviceNh(privateNh_);
+  serviceNh.setCallbackQueue(&serviceQueue_);
+  segmentSitesService_ = serviceNh.advertiseService("segment_sites", &EnrichmentNode::onSegmentSites, this);
+  serviceSpinner_ = std::make_unique<ros::AsyncSpinner>(1, &serviceQueue_);
+  serviceSpinner_->start();
 
   const double markerRate = privateNh_.param("marker_rate", 5.0);
   if (markerRate > 0.0) markerTimer_ = nh_.createTimer(ros::Duration(1.0 / markerRate), &EnrichmentNode::onMarkerTimer, this);
@@ -152,6 +161,34 @@ void EnrichmentNode::onMarkerTimer(const ros::TimerEvent&) {
   const auto active = contacts_.active(lastInput_->header.stamp);
   markersPub_.publish(enrichmentMarkers(lastInput_->header, *rest_, lastPositions_, lastEnrichedPositions_, active,
                                         markerOptions_));
+}
+
+bool EnrichmentNode::onSegmentSites(SegmentSites::Request& request, SegmentSites::Response& response) {
+  std::optional<mesh::TriangleMesh> rest;
+  std_msgs::Header header;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);  // copy, so the enrichment goes on while this computes
+    rest = rest_;
+    header.frame_id = meshFrame_;
+  }
+  response.success = false;
+  if (!rest) {
+    response.message = "no rest mesh yet";
+    return true;
+  }
+  try {
+    const std::vector<int> labels = segmentRestSurface(*rest, static_cast<int>(request.regions), segmentation_);
+    response.labels.assign(labels.begin(), labels.end());
+    header.stamp = ros::Time::now();
+    siteRegionsPub_.publish(siteRegionMarkers(header, *rest, labels));
+    response.success = true;
+    response.message = "segmented " + std::to_string(labels.size()) + " vertices into " +
+                       std::to_string(request.regions) + " site regions";
+  } catch (const Error& e) {
+    response.message = e.what();
+    ROS_ERROR("segment_sites failed: %s", e.what());
+  }
+  return true;
 }
 
 void EnrichmentNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {

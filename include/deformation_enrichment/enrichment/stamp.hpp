@@ -1,0 +1,37 @@
+#pragma once
+// Stamps Psi: R^2 -> R^3 of paper 000 §3, stored as a regular grid of nodes (OpenCV CV_32FC3) spanning
+// [-R, R]^2 in a stamping frame B around a contact p: node (row j, col k) sits at
+//   (phi, varphi) = (-R + k 2R/(cols-1), -R + j 2R/(rows-1)),  phi along b_x, varphi along b_y,
+// so the grid covers the square exactly and bilinear look-up reproduces affine fields everywhere in it.
+// Values are displacements (fine - coarse) in frame coordinates (components along b_x, b_y, b_z).
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "deformation_enrichment/mesh/triangle_mesh.hpp"
+
+namespace deformation_enrichment::enrichment {
+
+/// Stamp coordinates (phi, varphi) of points: the projection of x - p on (b_x, b_y) (eq. 1's mapping).
+Eigen::Matrix2Xd stampCoordinates(const Eigen::Matrix3Xd& points, const Eigen::Vector3d& p, const Eigen::Matrix3d& B);
+
+/// Rasterises a stamp from a surface patch: the patch's rest vertices are projected on (b_x, b_y) around
+/// p and each node takes the linear (barycentric) interpolation of `frameDisplacement` (3 x vertices,
+/// already in frame coordinates) over the projected triangle that contains it. Where projected triangles
+/// overlap (a folded or two-sided patch) the one highest along b_z wins, i.e. the side seen from outside.
+/// Nodes no triangle covers get zero. Throws InvalidInputError for an invalid mesh, mismatched sizes,
+/// NaN, a non-orthonormal B, radius <= 0 or resolution < 2.
+cv::Mat rasteriseStamp(const mesh::TriangleMesh& restPatch, const Eigen::Matrix3Xd& frameDisplacement,
+                       const Eigen::Vector3d& p, const Eigen::Matrix3d& B, double radius, int resolution = 64);
+
+/// Bilinear look-up of `stamp` (CV_32FC3 over [-radius, radius]^2) at stamp coordinates (2 x n), in
+/// double precision; zero outside the square. `out` is resized to 3 x n. Throws InvalidInputError for a
+/// wrong stamp type or size, radius <= 0, or NaN coordinates.
+void lookUpStamp(const cv::Mat& stamp, double radius, const Eigen::Matrix2Xd& coordinates, Eigen::Matrix3Xd& out);
+
+/// Single-point look-up (same conventions as lookUpStamp, no input checks: the caller validated).
+Eigen::Vector3d sampleStamp(const cv::Mat& stamp, double radius, double phi, double varphi);
+
+/// Throws InvalidInputError unless `stamp` is a CV_32FC3 grid of at least 2x2 nodes and radius > 0.
+void checkStamp(const cv::Mat& stamp, double radius, const char* what);
+
+}  // namespace deformation_enrichment::enrichment

@@ -1,0 +1,54 @@
+#pragma once
+// One acquired example of paper 000 §3: contact p[i], stamping frame B[i], rest-site and deformation
+// descriptors rho[i], mu[i] (both in the frame B[i]) and the stamp Psi[i] (fine - coarse surface
+// displacement in frame coordinates, a regular grid over [-R, R]^2 around p[i]), plus how it was made.
+#include <Eigen/Core>
+#include <map>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "deformation_enrichment/hermite/moment_list.hpp"
+
+namespace deformation_enrichment::examples {
+
+/// The tool interaction that produced an example (metres).
+struct InteractionPattern {
+  double indentDepth = 0.0;                      ///< along the inward normal
+  Eigen::Vector3d drag = Eigen::Vector3d::Zero();  ///< lateral drag vector (world axes)
+};
+
+struct Example {
+  Eigen::Vector3d contact = Eigen::Vector3d::Zero();     ///< p[i], rest-state position (m)
+  Eigen::Matrix3d frame = Eigen::Matrix3d::Identity();   ///< B[i], columns b_x b_y b_z
+  hermite::MomentList rho;                                ///< site descriptor in frame B[i]
+  hermite::MomentList mu;                                 ///< deformation descriptor in frame B[i]
+  /// Psi[i]: CV_32FC3, rows x cols nodes spanning [-R, R]^2 (node (0,0) at (-R,-R), column index along
+  /// b_x, row index along b_y), displacement (m) in frame coordinates.
+  cv::Mat stamp;
+  double stampRadius = 0.0;  ///< R (m)
+  InteractionPattern pattern;
+  std::string sceneId;
+};
+
+/// Set-wide metadata written to the manifest.
+struct ExampleSetMetadata {
+  std::string scene;                    ///< scene name, e.g. "slab"
+  std::map<std::string, double> material;  ///< named material parameters (SI units)
+  std::string description;
+};
+
+struct ExampleSet {
+  ExampleSetMetadata metadata;
+  std::vector<Example> examples;
+};
+
+/// Empty if the example is well formed, otherwise a message naming the first problem: non-finite
+/// contact/frame/descriptors/pattern, frame not orthonormal and right-handed (tolerance 1e-6), radius not
+/// positive and finite, stamp not CV_32FC3 with at least 2x2 nodes, non-finite stamp values.
+std::string exampleProblem(const Example& example);
+
+/// Throws InvalidInputError with exampleProblem's message (prefixed by `what`) when it is not empty.
+void validateExample(const Example& example, const std::string& what = "example");
+
+}  // namespace deformation_enrichment::examples

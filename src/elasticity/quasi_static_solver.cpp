@@ -1,0 +1,310 @@
+#include "deformation_enrichment/elasticity/quasi_static_solver.hpp"
+
+#include <Eigen/SparseCholesky>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#ifdef DE_HAVE_CHOLMOD
+#include <Eigen/CholmodSupport>
+#endif
+
+#include "deformation_enrichment/error.hpp"
+
+namespace deformation_enrichment::elasticity {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+}  // namespace
+
+void DirichletConstraints::add(int vertex, const Eigen::Vector3d& position) {
+  vertices.push_back(vertex);
+  positions.conservativeResize(3, static_cast<Eigen::Index>(vertices.size()));
+  positions.col(positions.cols() - 1) = position;
+}
+
+const char* toString(SolverStatus status) {
+  switch (status) {
+    case SolverStatus::Converged: return "converged";
+    case SolverStatus::MaxIterations: return "iteration limit reached";
+    case SolverStatus::TimeLimit: return "time limit reached";
+    case SolverStatus::LineSearchFailed: return "line search found no decrease";
+    case SolverStatus::LinearSolverFailed: return "Newton system could not be factorised";
+  }
+  return "unknown";
+}
+
+/// The reduced system of one constraint set: dof map, Hessian storage (lower triangle) and the
+/// factorisation, whose symbolic analysis is reused while the constrained vertex set stays the same.
+struct QuasiStaticSolver::Linear {
+  LinearSolverKind kind;
+  Eigen::VectorXi dofMap;
+  std::vector<int> freeDofs;  ///< global dof of each reduced row
+  Eigen::SparseMatrix<double> H;       ///< projected Hessian (lower triangle)
+  Eigen::SparseMatrix<double> Hexact;  ///< exact Hessian, same pattern (used near the solution)
+  std::vector<Eigen::Index> diagonal;  ///< value index of H(i, i)
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt;
+#ifdef DE_HAVE_CHOLMOD
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> cholmod;
+#endif
+
+  void prepare(const TetFem& fem, const Eigen::VectorXi& map) {
+    if (map.size() == dofMap.size() && map == dofMap) return;
+    dofMap = map;
+    H = fem.reducedPattern(dofMap, true);
+    Hexact = Eigen::SparseMatrix<double>();  // pattern changed: rebuilt from H on first use
+    freeDofs.assign(static_cast<std::size_t>(H.cols()), 0);
+    for (Eigen::Index d = 0; d < dofMap.size(); ++d)
+      if (dofMap[d] >= 0) freeDofs[static_cast<std::size_t>(dofMap[d])] = static_cast<int>(d);
+    diagonal.resize(static_cast<std::size_t>(H.cols()));
+    for (Eigen::Index c = 0; c < H.cols(); ++c) diagonal[static_cast<std::size_t>(c)] = H.outerIndexPtr()[c];  // lower: first entry
+    if (kind == LinearSolverKind::SimplicialLDLT) {
+      ldlt.analyzePattern(H);
+    } else {
+#ifdef DE_HAVE_CHOLMOD
+      cholmod.cholmod().print = 0;  // a non-positive-definite attempt is handled here, not printed
+      cholmod.analyzePattern(H);
+#endif
+    }
+  }
+
+  /// Factorises M + shift I (M has the pattern of H); true if positive definite.
+  bool factorize(Eigen::SparseMatrix<double>& M, double shift) {
+    for (Eigen::Index i : diagonal) M.valuePtr()[i] += shift;
+    bool ok = false;
+    if (kind == LinearSolverKind::SimplicialLDLT) {
+      ldlt.factorize(M);
+      ok = ldlt.info() == Eigen::Success && ldlt.vectorD().minCoeff() > 0.0;
+    } else {
+#ifdef DE_HAVE_CHOLMOD
+      cholmod.factorize(M);
+      ok = cholmod.info() == Eigen::Success;
+#endif
+    }
+    for (Eigen::Index i : diagonal) M.valuePtr()[i] -= shift;
+    return ok;
+  }
+
+  Eigen::VectorXd solve(const Eigen::VectorXd& rhs) {
+    if (kind == LinearSolverKind::SimplicialLDLT) return ldlt.solve(rhs);
+#ifdef DE_HAVE_CHOLMOD
+    return cholmod.solve(rhs);
+#else
+    return Eigen::VectorXd();
+#endif
+  }
+};
+
+QuasiStaticSolver::QuasiStaticSolver(const TetFem& fem, SolverSettings settings)
+    : fem_(fem), settings_(std::move(settings)), linear_(std::make_unique<Linear>()) {
+  LinearSolverKind kind = settings_.linearSolver;
+#ifdef DE_HAVE_CHOLMOD
+  if (kind == LinearSolverKind::Auto) kind = LinearSolverKind::Cholmod;
+#else
+  if (kind == LinearSolverKind::Cholmod)
+    throw InvalidInputError("QuasiStaticSolver: CHOLMOD requested but the library was built without it");
+  if (kind == LinearSolverKind::Auto) kind = LinearSolverKind::SimplicialLDLT;
+#endif
+  linear_->kind = kind;
+  if (settings_.maxIterations < 0 || !(settings_.relativeForceTolerance >= 0.0) || settings_.maxLineSearchSteps < 1 ||
+      !(settings_.armijo > 0.0 && settings_.armijo < 1.0) || !(settings_.maxSeconds > 0.0) ||
+      !(settings_.exactHessianBelow >= 0.0) || !(settings_.reuseContraction >= 0.0 && settings_.reuseContraction < 1.0))
+    throw InvalidInputError("QuasiStaticSolver: invalid settings (limits must be positive, 0 < armijo < 1, "
+                            "exactHessianBelow >= 0, 0 <= reuseContraction < 1)");
+}
+
+QuasiStaticSolver::~QuasiStaticSolver() = default;
+
+SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const DirichletConstraints& constraints) {
+  const Clock::time_point start = Clock::now();
+  const Eigen::Index V = fem_.numVertices();
+  if (positions.cols() != V)
+    throw InvalidInputError("QuasiStaticSolver: positions have " + std::to_string(positions.cols()) + " columns for " +
+                            std::to_string(V) + " vertices");
+  if (!positions.allFinite()) throw InvalidInputError("QuasiStaticSolver: positions contain NaN or Inf");
+  if (constraints.positions.cols() != static_cast<Eigen::Index>(constraints.vertices.size()))
+    throw InvalidInputError("QuasiStaticSolver: constraint vertices and positions differ in count");
+  if (!constraints.positions.allFinite()) throw InvalidInputError("QuasiStaticSolver: constraint positions contain NaN or Inf");
+  std::vector<char> seen(static_cast<std::size_t>(V), 0);
+  for (int v : constraints.vertices) {
+    if (v < 0 || v >= V) throw InvalidInputError("QuasiStaticSolver: constraint vertex " + std::to_string(v) + " out of range");
+    if (seen[static_cast<std::size_t>(v)]++) throw InvalidInputError("QuasiStaticSolver: vertex " + std::to_string(v) + " constrained twice");
+  }
+  int freeCount = 0;
+  const Eigen::VectorXi map = makeDofMap(V, constraints.vertices, &freeCount);
+  if (freeCount == 0) throw InvalidInputError("QuasiStaticSolver: every vertex is constrained");
+  for (std::size_t k = 0; k < constraints.vertices.size(); ++k)
+    positions.col(constraints.vertices[k]) = constraints.positions.col(static_cast<Eigen::Index>(k));
+
+  Linear& linear = *linear_;
+  linear.prepare(fem_, map);
+  SolveResult result;
+  result.freeDofs = freeCount;
+
+  double energy = fem_.energy(positions);
+  if (!std::isfinite(energy))
+    throw InvalidInputError("QuasiStaticSolver: the initial positions give a non-finite energy (extreme deformation)");
+  Eigen::VectorXd g;
+  fem_.assembleReduced(positions, map, true, HessianKind::Projected, linear.H, &g);
+  result.initialForceNorm = g.norm();
+  double absolute = settings_.absoluteForceTolerance;
+  if (absolute < 0.0) {
+    const Eigen::Vector3d extent = fem_.rest().vertices.rowwise().maxCoeff() - fem_.rest().vertices.rowwise().minCoeff();
+    absolute = 1e-12 * fem_.maxShearModulus() * extent.squaredNorm();
+  }
+  result.forceTolerance = std::max(settings_.relativeForceTolerance * result.initialForceNorm, absolute);
+  double forceNorm = result.initialForceNorm;
+  // Round-off level of E: each tet's Psi is accurate to ~eps mu' V relative to its O(mu V) terms.
+  const double energyNoise = 1e-14 * fem_.maxShearModulus() * fem_.restVolumes().sum();
+  const auto applyStep = [&](Eigen::Matrix3Xd& x, const Eigen::VectorXd& step, double alpha) {
+    for (std::size_t r = 0; r < linear.freeDofs.size(); ++r) {
+      const int d = linear.freeDofs[r];
+      x(d % 3, d / 3) += alpha * step[static_cast<Eigen::Index>(r)];
+    }
+  };
+
+  result.status = SolverStatus::MaxIterations;
+  if (forceNorm <= result.forceTolerance) result.status = SolverStatus::Converged;
+  Eigen::Matrix3Xd trial;
+  const bool tryExact = settings_.exactHessianBelow > 0.0;
+  bool hessianCurrent = true;  // linear.H holds the projected Hessian at `positions`
+  bool reuseNext = false;      // next direction from the current factorisation (chord step)
+  double exactBelow = settings_.exactHessianBelow * result.initialForceNorm;
+  while (result.status != SolverStatus::Converged && result.iterations < settings_.maxIterations) {
+    if (secondsSince(start) > settings_.maxSeconds) {
+      result.status = SolverStatus::TimeLimit;
+      break;
+    }
+    IterationRecord record;
+    record.iteration = result.iterations + 1;
+    Clock::time_point phase = Clock::now();
+    Eigen::VectorXd direction;
+    bool factored = false;
+    // Chord step: while Newton steps contract the force strongly, the previous factorisation still
+    // gives a good direction for the price of a triangular solve (factorising dominates on large meshes).
+    if (reuseNext) {
+      direction = linear.solve(-g);
+      factored = direction.allFinite() && direction.dot(g) < 0.0;
+      record.reusedFactorization = factored;
+    }
+    if (!factored) {
+      if (!hessianCurrent) {
+        const Clock::time_point assembly = Clock::now();
+        fem_.assembleReduced(positions, map, true, HessianKind::Projected, linear.H, nullptr);
+        record.assemblySeconds += secondsSince(assembly);
+        hessianCurrent = true;
+      }
+      // Newton direction on the projected (PSD) Hessian; a diagonal shift only when the factorisation
+      // reports it is not positive definite (fully crushed tets can make it singular).
+      double meanDiagonal = 0.0;
+      for (Eigen::Index i : linear.diagonal) meanDiagonal += std::abs(linear.H.valuePtr()[i]);
+      meanDiagonal = std::max(meanDiagonal / static_cast<double>(linear.diagonal.size()), std::numeric_limits<double>::min());
+      // Close to a stable equilibrium the exact Hessian is positive definite and gives Newton's quadratic
+      // convergence, which the projected one (exact only where every element is convex) loses. Try it once
+      // the force is small; when it is indefinite, fall back to the projection below.
+      if (tryExact && forceNorm <= exactBelow) {
+        if (linear.Hexact.rows() != linear.H.rows()) linear.Hexact = linear.H;
+        fem_.assembleReduced(positions, map, true, HessianKind::Exact, linear.Hexact, nullptr);
+        ++result.factorizations;
+        if (linear.factorize(linear.Hexact, 0.0)) {
+          direction = linear.solve(-g);
+          factored = direction.allFinite() && direction.dot(g) < 0.0;
+        }
+        record.exactHessian = factored;
+        // Not positive definite yet (e.g. still far from a stable state, or near a buckling point):
+        // try again once the force has dropped tenfold.
+        if (!factored) exactBelow = 0.1 * forceNorm;
+      }
+      for (double shift = 0.0; !factored && shift <= 1e3 * meanDiagonal;
+           shift = shift == 0.0 ? 1e-10 * meanDiagonal : shift * 100.0) {
+        ++result.factorizations;
+        if (!linear.factorize(linear.H, shift)) continue;
+        direction = linear.solve(-g);
+        if (direction.allFinite() && direction.dot(g) < 0.0) {
+          record.regularisation = shift;
+          factored = true;
+        }
+      }
+    }
+    record.factorSeconds = secondsSince(phase) - record.assemblySeconds;
+    if (!factored) {
+      result.status = SolverStatus::LinearSolverFailed;
+      break;
+    }
+    // Back-tracking line search on the energy (Armijo condition).
+    phase = Clock::now();
+    const double slope = direction.dot(g);
+    double alpha = 1.0, trialEnergy = 0.0;
+    bool accepted = false;
+    // Below the round-off level of E the Armijo test only compares noise: stop back-tracking there.
+    const double noise = energyNoise + 1e-12 * std::abs(energy);
+    for (int step = 0; step < settings_.maxLineSearchSteps && alpha * std::abs(slope) > noise; ++step, alpha *= 0.5) {
+      trial = positions;
+      applyStep(trial, direction, alpha);
+      trialEnergy = fem_.energy(trial);
+      record.lineSearchSteps = step;
+      if (trialEnergy <= energy + settings_.armijo * alpha * slope) {
+        accepted = true;
+        break;
+      }
+    }
+    if (!accepted) {
+      // Near the solution the energy decrease drops below the round-off of E; then accept the full
+      // Newton step if it does not raise E beyond that round-off and it reduces the force norm.
+      trial = positions;
+      applyStep(trial, direction, 1.0);
+      trialEnergy = fem_.energy(trial);
+      if (trialEnergy <= energy + noise) {
+        const Eigen::VectorXd full = fem_.gradient(trial);
+        double norm2 = 0.0;
+        for (int d : linear.freeDofs) norm2 += full[d] * full[d];
+        if (std::sqrt(norm2) < forceNorm) {
+          accepted = true;
+          alpha = 1.0;
+        }
+      }
+    }
+    record.lineSearchSeconds = secondsSince(phase);
+    if (!accepted && record.reusedFactorization) {
+      reuseNext = false;  // the stale direction was poor: retry with a fresh factorisation
+      continue;
+    }
+    if (!accepted) {
+      result.status = SolverStatus::LineSearchFailed;
+      break;
+    }
+    positions.swap(trial);
+    energy = trialEnergy;
+    phase = Clock::now();
+    const Eigen::VectorXd full = fem_.gradient(positions);
+    for (std::size_t r = 0; r < linear.freeDofs.size(); ++r) g[static_cast<Eigen::Index>(r)] = full[linear.freeDofs[r]];
+    hessianCurrent = false;
+    record.assemblySeconds += secondsSince(phase);
+    const double previousForceNorm = forceNorm;
+    forceNorm = g.norm();
+    reuseNext = settings_.reuseContraction > 0.0 && alpha == 1.0 && forceNorm <= settings_.reuseContraction * previousForceNorm;
+    ++result.iterations;
+    record.energy = energy;
+    record.forceNorm = forceNorm;
+    record.relativeForceNorm = result.initialForceNorm > 0.0 ? forceNorm / result.initialForceNorm : 0.0;
+    record.stepLength = alpha;
+    record.elapsedSeconds = secondsSince(start);
+    result.history.push_back(record);
+    if (settings_.callback) settings_.callback(record);
+    if (forceNorm <= result.forceTolerance) result.status = SolverStatus::Converged;
+  }
+  result.finalForceNorm = forceNorm;
+  result.energy = energy;
+  result.seconds = secondsSince(start);
+  std::ostringstream message;
+  message << toString(result.status) << " after " << result.iterations << " Newton iterations: |f| = " << forceNorm
+          << " N (start " << result.initialForceNorm << " N, tolerance " << result.forceTolerance << " N), E = "
+          << energy << " J, " << result.seconds << " s, " << freeCount << " free dofs";
+  result.message = message.str();
+  return result;
+}
+
+}  // namespace deformation_enrichment::elasticity

@@ -1,0 +1,46 @@
+#include "deformation_enrichment/enrichment/example_blender.hpp"
+
+#include <string>
+
+#include "deformation_enrichment/enrichment/stamp_blending.hpp"
+#include "deformation_enrichment/error.hpp"
+
+namespace deformation_enrichment::enrichment {
+
+ExampleBlender::ExampleBlender(const examples::ExampleSet& set, const ExampleBlenderOptions& options)
+    : lambda_(options.lambda), widths_(options.widths) {
+  if (set.examples.empty()) throw InvalidInputError("ExampleBlender: the example set is empty");
+  std::vector<hermite::MomentList> rho, mu;
+  for (std::size_t i = 0; i < set.examples.size(); ++i) {
+    const examples::Example& e = set.examples[i];
+    examples::validateExample(e, "ExampleBlender: example " + std::to_string(i));
+    rho.push_back(e.rho);
+    mu.push_back(e.mu);
+    stamps_.push_back(e.stamp);
+  }
+  // Throws for differing stamp grids; the blended stamp of all-zero weights also fixes the radius.
+  blendExampleStamps(set.examples, Eigen::VectorXd::Zero(size()), radius_);
+  table_ = std::make_unique<ExampleDescriptorTable>(rho, mu);
+  dissimilarities_ = exampleDissimilarities(*table_, rho, mu);
+  if (options.fitWidths && size() >= 2) {
+    const Eigen::MatrixXd gram = stampGramMatrix(stamps_);
+    if (gram.trace() > 0.0) {  // all-zero stamps: nothing to cross-validate, keep the given widths
+      fit_ = fitKernelWidths(dissimilarities_, gram, defaultKernelWidthGrid(dissimilarities_, options.gridCount), lambda_);
+      widths_ = fit_->best;
+    }
+  }
+  setWidths(widths_);
+}
+
+void ExampleBlender::setWidths(const KernelWidths& widths) {
+  rbf_ = std::make_unique<RbfInterpolator>(kernelMatrix(dissimilarities_, widths), lambda_);
+  widths_ = widths;
+}
+
+void ExampleBlender::blend(const hermite::MomentList& rho, const hermite::MomentList& mu, BlendResult& out) const {
+  correlate(*table_, rho, mu, widths_, out.correlation);  // eq. (15)
+  rbf_->interpolate(out.correlation.weights, out.rbf);
+  out.stamp = blendStamps(stamps_, out.rbf.weights);  // eq. (16)
+}
+
+}  // namespace deformation_enrichment::enrichment

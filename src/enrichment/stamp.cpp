@@ -1,0 +1,110 @@
+#include "deformation_enrichment/enrichment/stamp.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "deformation_enrichment/error.hpp"
+
+namespace deformation_enrichment::enrichment {
+
+namespace {
+
+void checkFrame(const Eigen::Vector3d& p, const Eigen::Matrix3d& B, const char* what) {
+  if (!p.allFinite() || !B.allFinite()) throw InvalidInputError(std::string(what) + ": contact or frame is not finite");
+  if ((B.transpose() * B - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-6)
+    throw InvalidInputError(std::string(what) + ": frame B is not orthonormal");
+}
+
+}  // namespace
+
+void checkStamp(const cv::Mat& stamp, double radius, const char* what) {
+  if (stamp.type() != CV_32FC3) throw InvalidInputError(std::string(what) + ": stamp is not CV_32FC3");
+  if (stamp.rows < 2 || stamp.cols < 2) throw InvalidInputError(std::string(what) + ": stamp has fewer than 2x2 nodes");
+  if (!(std::isfinite(radius) && radius > 0.0)) throw InvalidInputError(std::string(what) + ": stamp radius is not positive and finite");
+}
+
+Eigen::Matrix2Xd stampCoordinates(const Eigen::Matrix3Xd& points, const Eigen::Vector3d& p, const Eigen::Matrix3d& B) {
+  // Orthogonal projection on the tangent plane of the frame (paper 000 §3): (phi, varphi) = (b_x, b_y)^T (x - p).
+  return B.leftCols<2>().transpose() * (points.colwise() - p);
+}
+
+cv::Mat rasteriseStamp(const mesh::TriangleMesh& restPatch, const Eigen::Matrix3Xd& frameDisplacement,
+                       const Eigen::Vector3d& p, const Eigen::Matrix3d& B, double radius, int resolution) {
+  mesh::validate(restPatch, false);
+  if (frameDisplacement.cols() != restPatch.vertices.cols())
+    throw InvalidInputError("rasteriseStamp: " + std::to_string(frameDisplacement.cols()) + " displacements for " +
+                            std::to_string(restPatch.vertices.cols()) + " vertices");
+  if (!frameDisplacement.allFinite()) throw InvalidInputError("rasteriseStamp: displacement is not finite");
+  checkFrame(p, B, "rasteriseStamp");
+  if (!(std::isfinite(radius) && radius > 0.0)) throw InvalidInputError("rasteriseStamp: radius is not positive and finite");
+  if (resolution < 2) throw InvalidInputError("rasteriseStamp: resolution must be at least 2");
+
+  const Eigen::Matrix3Xd local = B.transpose() * (restPatch.vertices.colwise() - p);  // (phi, varphi, height)
+  const double spacing = 2.0 * radius / (resolution - 1);
+  cv::Mat stamp(resolution, resolution, CV_32FC3, cv::Scalar::all(0.0));
+  Eigen::ArrayXXd height = Eigen::ArrayXXd::Constant(resolution, resolution, -std::numeric_limits<double>::infinity());
+
+  for (Eigen::Index t = 0; t < restPatch.triangles.cols(); ++t) {
+    const Eigen::Vector3i tri = restPatch.triangles.col(t);
+    const Eigen::Vector2d a = local.col(tri[0]).head<2>(), b = local.col(tri[1]).head<2>(), c = local.col(tri[2]).head<2>();
+    const double area2 = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+    const double scale = std::max({(b - a).squaredNorm(), (c - a).squaredNorm(), (c - b).squaredNorm()});
+    if (std::abs(area2) <= 1e-12 * scale) continue;  // edge-on in this projection: covers no area
+    const Eigen::Vector2d lo = a.cwiseMin(b).cwiseMin(c), hi = a.cwiseMax(b).cwiseMax(c);
+    const int k0 = std::max(0, static_cast<int>(std::ceil((lo.x() + radius) / spacing - 1e-9)));
+    const int k1 = std::min(resolution - 1, static_cast<int>(std::floor((hi.x() + radius) / spacing + 1e-9)));
+    const int j0 = std::max(0, static_cast<int>(std::ceil((lo.y() + radius) / spacing - 1e-9)));
+    const int j1 = std::min(resolution - 1, static_cast<int>(std::floor((hi.y() + radius) / spacing + 1e-9)));
+    const double tolerance = 1e-9;  // nodes on a shared edge belong to either neighbour, never to neither
+    for (int j = j0; j <= j1; ++j) {
+      for (int k = k0; k <= k1; ++k) {
+        const Eigen::Vector2d q(-radius + k * spacing, -radius + j * spacing);
+        // Barycentric coordinates of q in the projected triangle (linear interpolation over it).
+        const double l1 = ((q - a).x() * (c - a).y() - (q - a).y() * (c - a).x()) / area2;
+        const double l2 = ((b - a).x() * (q - a).y() - (b - a).y() * (q - a).x()) / area2;
+        const double l0 = 1.0 - l1 - l2;
+        if (l0 < -tolerance || l1 < -tolerance || l2 < -tolerance) continue;
+        const double h = l0 * local(2, tri[0]) + l1 * local(2, tri[1]) + l2 * local(2, tri[2]);
+        if (h <= height(j, k)) continue;
+        height(j, k) = h;
+        const Eigen::Vector3d d = l0 * frameDisplacement.col(tri[0]) + l1 * frameDisplacement.col(tri[1]) +
+                                  l2 * frameDisplacement.col(tri[2]);
+        stamp.at<cv::Vec3f>(j, k) = cv::Vec3f(static_cast<float>(d.x()), static_cast<float>(d.y()), static_cast<float>(d.z()));
+      }
+    }
+  }
+  return stamp;
+}
+
+Eigen::Vector3d sampleStamp(const cv::Mat& stamp, double radius, double phi, double varphi) {
+  // Continuous node coordinates; the square [-R, R]^2 maps onto [0, cols-1] x [0, rows-1].
+  const double x = (phi + radius) * (stamp.cols - 1) / (2.0 * radius);
+  const double y = (varphi + radius) * (stamp.rows - 1) / (2.0 * radius);
+  if (!(x >= 0.0 && y >= 0.0 && x <= stamp.cols - 1 && y <= stamp.rows - 1)) return Eigen::Vector3d::Zero();
+  const int k = std::min(static_cast<int>(x), stamp.cols - 2);
+  const int j = std::min(static_cast<int>(y), stamp.rows - 2);
+  const double fx = x - k, fy = y - j;
+  const cv::Vec3f* row0 = stamp.ptr<cv::Vec3f>(j);
+  const cv::Vec3f* row1 = stamp.ptr<cv::Vec3f>(j + 1);
+  Eigen::Vector3d out;
+  for (int c = 0; c < 3; ++c) {
+    const double top = (1.0 - fx) * row0[k][c] + fx * row0[k + 1][c];
+    const double bottom = (1.0 - fx) * row1[k][c] + fx * row1[k + 1][c];
+    out[c] = (1.0 - fy) * top + fy * bottom;
+  }
+  return out;
+}
+
+void lookUpStamp(const cv::Mat& stamp, double radius, const Eigen::Matrix2Xd& coordinates, Eigen::Matrix3Xd& out) {
+  checkStamp(stamp, radius, "lookUpStamp");
+  if (!coordinates.allFinite()) throw InvalidInputError("lookUpStamp: coordinates are not finite");
+  // Own bilinear interpolation rather than cv::remap: remap quantises INTER_LINEAR weights to 1/32 of a
+  // cell and limits sizes to SHRT_MAX, which would break float-precision reproduction of smooth fields.
+  out.resize(3, coordinates.cols());
+  for (Eigen::Index i = 0; i < coordinates.cols(); ++i) out.col(i) = sampleStamp(stamp, radius, coordinates(0, i), coordinates(1, i));
+}
+
+}  // namespace deformation_enrichment::enrichment

@@ -1,0 +1,133 @@
+#include "deformation_enrichment/enrichment/stamp_blending.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <nanoflann.hpp>
+#include <string>
+
+#include "deformation_enrichment/enrichment/stamp.hpp"
+#include "deformation_enrichment/error.hpp"
+
+namespace deformation_enrichment::enrichment {
+
+cv::Mat blendStamps(const std::vector<cv::Mat>& stamps, const Eigen::VectorXd& weights) {
+  if (stamps.empty()) throw InvalidInputError("blendStamps: no stamps");
+  if (static_cast<std::size_t>(weights.size()) != stamps.size())
+    throw InvalidInputError("blendStamps: " + std::to_string(weights.size()) + " weights for " + std::to_string(stamps.size()) + " stamps");
+  if (!weights.allFinite()) throw InvalidInputError("blendStamps: weights are not finite");
+  for (std::size_t i = 0; i < stamps.size(); ++i) {
+    if (stamps[i].type() != CV_32FC3) throw InvalidInputError("blendStamps: stamp " + std::to_string(i) + " is not CV_32FC3");
+    if (stamps[i].size() != stamps[0].size()) throw InvalidInputError("blendStamps: stamp " + std::to_string(i) + " differs in size from stamp 0");
+  }
+  // eq. (16): Psi = sum_i Psi[i] w~_i, node by node.
+  cv::Mat blended(stamps[0].size(), CV_32FC3, cv::Scalar::all(0.0));
+  for (std::size_t i = 0; i < stamps.size(); ++i) {
+    const double w = weights[static_cast<Eigen::Index>(i)];
+    if (w == 0.0) continue;
+    cv::scaleAdd(stamps[i], w, blended, blended);
+  }
+  return blended;
+}
+
+cv::Mat blendExampleStamps(const std::vector<examples::Example>& examples, const Eigen::VectorXd& weights, double& radius) {
+  if (examples.empty()) throw InvalidInputError("blendExampleStamps: no examples");
+  std::vector<cv::Mat> stamps;
+  stamps.reserve(examples.size());
+  for (std::size_t i = 0; i < examples.size(); ++i) {
+    // Radii must agree to a relative 1e-9: one grid, one meaning of a node.
+    if (std::abs(examples[i].stampRadius - examples[0].stampRadius) > 1e-9 * examples[0].stampRadius)
+      throw InvalidInputError("blendExampleStamps: example " + std::to_string(i) + " has a different stamp radius");
+    stamps.push_back(examples[i].stamp);
+  }
+  radius = examples[0].stampRadius;
+  return blendStamps(stamps, weights);
+}
+
+// nanoflann over the rest vertices (column-major 3 x n, the adaptor keeps a reference to rest_).
+struct StampMapper::KdTree {
+  using Tree = nanoflann::KDTreeEigenMatrixAdaptor<Eigen::Matrix3Xd, 3, nanoflann::metric_L2_Simple, false>;
+  explicit KdTree(const Eigen::Matrix3Xd& points) : tree(3, std::cref(points), 16) {}
+  Tree tree;
+  std::vector<std::pair<Eigen::Index, double>> matches;
+};
+
+StampMapper::StampMapper(Eigen::Matrix3Xd restVertices, double rimBand, Eigen::Matrix3Xd restNormals)
+    : rest_(std::move(restVertices)), rimBand_(rimBand), normals_(std::move(restNormals)) {
+  if (rest_.cols() == 0) throw InvalidInputError("StampMapper: the rest surface has no vertices");
+  if (normals_.cols() != 0 && normals_.cols() != rest_.cols())
+    throw InvalidInputError("StampMapper: " + std::to_string(normals_.cols()) + " normals for " + std::to_string(rest_.cols()) + " vertices");
+  if (!normals_.allFinite()) throw InvalidInputError("StampMapper: rest normals are not finite");
+  if (!rest_.allFinite()) throw InvalidInputError("StampMapper: rest vertices are not finite");
+  if (!(rimBand >= 0.0 && rimBand < 1.0)) throw InvalidInputError("StampMapper: rim band must lie in [0, 1)");
+  index_ = std::make_unique<KdTree>(rest_);
+  sum_ = Eigen::Matrix3Xd::Zero(3, rest_.cols());
+  weightSum_ = Eigen::VectorXd::Zero(rest_.cols());
+}
+
+StampMapper::~StampMapper() = default;
+StampMapper::StampMapper(StampMapper&&) noexcept = default;
+StampMapper& StampMapper::operator=(StampMapper&&) noexcept = default;
+
+double StampMapper::rimWeight(double r) const {
+  if (r > 1.0) return 0.0;
+  if (rimBand_ == 0.0) return 1.0;
+  const double s = std::clamp((1.0 - r) / rimBand_, 0.0, 1.0);
+  return s * s * (3.0 - 2.0 * s);  // smoothstep: C1 at both ends of the band
+}
+
+void StampMapper::map(const std::vector<ContactStamp>& contacts, SurfaceEnrichment& out) {
+  for (std::size_t c = 0; c < contacts.size(); ++c) {
+    const ContactStamp& contact = contacts[c];
+    const std::string what = "StampMapper::map: contact " + std::to_string(c);
+    checkStamp(contact.stamp, contact.radius, what.c_str());
+    if (!contact.contact.allFinite() || !contact.frame.allFinite() || !contact.rotation.allFinite())
+      throw InvalidInputError(what + ": contact, frame or rotation is not finite");
+    if ((contact.frame.transpose() * contact.frame - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-6)
+      throw InvalidInputError(what + ": frame B is not orthonormal");
+    if ((contact.rotation.transpose() * contact.rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-6)
+      throw InvalidInputError(what + ": rotation R is not orthonormal");
+  }
+  touched_.clear();
+  for (const ContactStamp& contact : contacts) {
+    const Eigen::Matrix3d RB = contact.rotation * contact.frame;
+    index_->matches.clear();
+    index_->tree.index->radiusSearch(contact.contact.data(), contact.radius * contact.radius, index_->matches,
+                                     nanoflann::SearchParams(32, 0.0f, false));
+    for (const auto& [vertex, squaredDistance] : index_->matches) {
+      const double a = rimWeight(std::sqrt(squaredDistance) / contact.radius);
+      if (a == 0.0) continue;
+      if (normals_.cols() != 0 && normals_.col(vertex).dot(contact.frame.col(2)) < 0.0) continue;  // far side
+      const Eigen::Vector3d x = rest_.col(vertex) - contact.contact;
+      const double phi = contact.frame.col(0).dot(x), varphi = contact.frame.col(1).dot(x);
+      if (weightSum_[vertex] == 0.0) touched_.push_back(static_cast<int>(vertex));
+      // e_c(x) = R B Psi(phi, varphi) (eq. 1), weighted by the rim weight a_c(x).
+      sum_.col(vertex) += a * (RB * sampleStamp(contact.stamp, contact.radius, phi, varphi));
+      weightSum_[vertex] += a;
+    }
+  }
+  std::sort(touched_.begin(), touched_.end());
+  out.vertices = touched_;
+  out.displacements.resize(3, static_cast<Eigen::Index>(touched_.size()));
+  for (std::size_t k = 0; k < touched_.size(); ++k) {
+    const int v = touched_[k];
+    out.displacements.col(static_cast<Eigen::Index>(k)) = sum_.col(v) / std::max(1.0, weightSum_[v]);
+    sum_.col(v).setZero();  // reset scratch for the next call, touching only what was used
+    weightSum_[v] = 0.0;
+  }
+}
+
+void StampMapper::apply(const SurfaceEnrichment& enrichment, Eigen::Matrix3Xd& state) const {
+  if (state.cols() != rest_.cols())
+    throw InvalidInputError("StampMapper::apply: state has " + std::to_string(state.cols()) + " vertices, the surface " +
+                            std::to_string(rest_.cols()));
+  if (static_cast<Eigen::Index>(enrichment.vertices.size()) != enrichment.displacements.cols())
+    throw InvalidInputError("StampMapper::apply: vertex ids and displacements differ in count");
+  for (std::size_t k = 0; k < enrichment.vertices.size(); ++k) {
+    const int v = enrichment.vertices[k];
+    if (v < 0 || v >= rest_.cols()) throw InvalidInputError("StampMapper::apply: vertex id " + std::to_string(v) + " out of range");
+    state.col(v) += enrichment.displacements.col(static_cast<Eigen::Index>(k));  // eq. (1): s~ = s + e
+  }
+}
+
+}  // namespace deformation_enrichment::enrichment

@@ -1,0 +1,319 @@
+#include "deformation_enrichment/examples/example_set_io.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <vector>
+
+#include "deformation_enrichment/error.hpp"
+
+namespace deformation_enrichment::examples {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+// The blob is defined as little-endian float32; reject big-endian hosts instead of writing wrong bytes.
+bool hostIsLittleEndian() {
+  const std::uint16_t probe = 1;
+  unsigned char first = 0;
+  std::memcpy(&first, &probe, 1);
+  return first == 1;
+}
+
+std::string hex64(std::uint64_t v) {
+  std::ostringstream s;
+  s << std::hex << std::setw(16) << std::setfill('0') << v;
+  return s.str();
+}
+
+json momentsToJson(const hermite::MomentList& m) {
+  return json{{"first_order", m.firstOrder()}, {"last_order", m.lastOrder()}, {"channels", m.channels()},
+              {"values", std::vector<double>(m.values().data(), m.values().data() + m.values().size())}};
+}
+
+void writeFileAtomically(const fs::path& path, const char* data, std::size_t size) {
+  const fs::path tmp = path.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw IoError(path.string() + ": cannot open for writing");
+    out.write(data, static_cast<std::streamsize>(size));
+    out.flush();
+    if (!out) throw IoError(path.string() + ": write failed");
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) throw IoError(path.string() + ": cannot rename temporary file: " + ec.message());
+}
+
+// Manifest reading: every accessor names the field path so the error says exactly what is wrong.
+class ManifestReader {
+public:
+  explicit ManifestReader(std::string file) : file_(std::move(file)) {}
+
+  [[noreturn]] void fail(const std::string& problem) const { throw IoError(file_ + ": " + problem); }
+
+  const json& field(const json& obj, const std::string& key, const std::string& path) const {
+    if (!obj.is_object()) fail(path + " is not an object");
+    const auto it = obj.find(key);
+    if (it == obj.end()) fail("missing field " + path + "." + key);
+    return *it;
+  }
+  double number(const json& obj, const std::string& key, const std::string& path) const {
+    const json& v = field(obj, key, path);
+    if (!v.is_number()) fail("field " + path + "." + key + " is not a number");
+    const double d = v.get<double>();
+    if (!std::isfinite(d)) fail("field " + path + "." + key + " is not finite");
+    return d;
+  }
+  int integer(const json& obj, const std::string& key, const std::string& path) const {
+    const json& v = field(obj, key, path);
+    if (!v.is_number_integer()) fail("field " + path + "." + key + " is not an integer");
+    return v.get<int>();
+  }
+  std::string string(const json& obj, const std::string& key, const std::string& path) const {
+    const json& v = field(obj, key, path);
+    if (!v.is_string()) fail("field " + path + "." + key + " is not a string");
+    return v.get<std::string>();
+  }
+  std::vector<double> numbers(const json& v, const std::string& path, std::size_t expected) const {
+    if (!v.is_array()) fail("field " + path + " is not an array");
+    if (expected != 0 && v.size() != expected)
+      fail("field " + path + " has " + std::to_string(v.size()) + " entries, expected " + std::to_string(expected));
+    std::vector<double> out;
+    out.reserve(v.size());
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      if (!v[i].is_number()) fail("field " + path + "[" + std::to_string(i) + "] is not a number (NaN is stored as null)");
+      out.push_back(v[i].get<double>());
+      if (!std::isfinite(out.back())) fail("field " + path + "[" + std::to_string(i) + "] is not finite");
+    }
+    return out;
+  }
+  hermite::MomentList moments(const json& obj, const std::string& key, const std::string& path) const {
+    const json& m = field(obj, key, path);
+    const std::string p = path + "." + key;
+    const int first = integer(m, "first_order", p);
+    const int last = integer(m, "last_order", p);
+    const int channels = integer(m, "channels", p);
+    hermite::MomentList list;
+    try {
+      list = hermite::MomentList(first, last, channels);
+    } catch (const Error& e) {
+      fail("field " + p + " has an invalid layout: " + e.what());
+    }
+    const std::vector<double> values = numbers(field(m, "values", p), p + ".values", 0);
+    if (values.size() != static_cast<std::size_t>(list.values().size()))
+      fail("field " + p + ".values has " + std::to_string(values.size()) + " entries, orders " + std::to_string(first) +
+           ".." + std::to_string(last) + " with " + std::to_string(channels) + " channel(s) need " +
+           std::to_string(list.values().size()));
+    for (std::size_t i = 0; i < values.size(); ++i) list.values()[static_cast<Eigen::Index>(i)] = values[i];
+    return list;
+  }
+
+private:
+  std::string file_;
+};
+
+bool sameLayout(const hermite::MomentList& a, const hermite::MomentList& b) {
+  return a.firstOrder() == b.firstOrder() && a.lastOrder() == b.lastOrder() && a.channels() == b.channels();
+}
+
+}  // namespace
+
+std::uint64_t fnv1a64(const void* data, std::size_t size) {
+  // FNV-1a 64: offset basis and prime from the FNV specification.
+  std::uint64_t hash = 0xcbf29ce484222325ULL;
+  const auto* bytes = static_cast<const unsigned char*>(data);
+  for (std::size_t i = 0; i < size; ++i) {
+    hash ^= bytes[i];
+    hash *= 0x100000001b3ULL;
+  }
+  return hash;
+}
+
+void saveExampleSet(const ExampleSet& set, const std::string& directory) {
+  if (!hostIsLittleEndian()) throw IoError(directory + ": example sets are little-endian; big-endian hosts are not supported");
+  if (set.examples.empty()) throw InvalidInputError("saveExampleSet: the set has no examples");
+  for (std::size_t i = 0; i < set.examples.size(); ++i) {
+    const Example& e = set.examples[i];
+    validateExample(e, "example " + std::to_string(i));
+    if (e.stamp.size() != set.examples[0].stamp.size() ||
+        std::abs(e.stampRadius - set.examples[0].stampRadius) > 1e-9 * set.examples[0].stampRadius)
+      throw InvalidInputError("saveExampleSet: example " + std::to_string(i) + " stamp size or radius differs from example 0");
+  }
+
+  std::vector<char> blob;
+  json examples = json::array();
+  for (const Example& e : set.examples) {
+    const cv::Mat stamp = e.stamp.isContinuous() ? e.stamp : e.stamp.clone();
+    const std::size_t offset = blob.size();
+    const std::size_t bytes = stamp.total() * stamp.elemSize();
+    blob.resize(offset + bytes);
+    std::memcpy(blob.data() + offset, stamp.ptr(), bytes);
+    json frame = json::array();
+    for (int r = 0; r < 3; ++r) frame.push_back({e.frame(r, 0), e.frame(r, 1), e.frame(r, 2)});
+    examples.push_back({{"contact", {e.contact.x(), e.contact.y(), e.contact.z()}},
+                        {"frame_rows", frame},
+                        {"rho", momentsToJson(e.rho)},
+                        {"mu", momentsToJson(e.mu)},
+                        {"stamp_radius", e.stampRadius},
+                        {"stamp_rows", stamp.rows},
+                        {"stamp_cols", stamp.cols},
+                        {"stamp_offset_bytes", offset},
+                        {"pattern", {{"indent_depth", e.pattern.indentDepth},
+                                     {"drag", {e.pattern.drag.x(), e.pattern.drag.y(), e.pattern.drag.z()}}}},
+                        {"scene_id", e.sceneId}});
+  }
+  json material = json::object();
+  for (const auto& [name, value] : set.metadata.material) {
+    if (!std::isfinite(value)) throw InvalidInputError("saveExampleSet: material parameter " + name + " is not finite");
+    material[name] = value;
+  }
+  const json manifest = {
+      {"format", kExampleSetFormatName},
+      {"format_version", kExampleSetFormatVersion},
+      {"package_version", kPackageVersion},
+      {"units", {{"length", "m"}, {"stamp_displacement", "m"}}},
+      {"scene", set.metadata.scene},
+      {"material", material},
+      {"description", set.metadata.description},
+      {"stamp_blob", {{"file", kStampBlobFile},
+                      {"dtype", "float32_le"},
+                      {"layout", "rows x cols x 3, row-major, examples in manifest order"},
+                      {"size_bytes", blob.size()},
+                      {"fnv1a64", hex64(fnv1a64(blob.data(), blob.size()))}}},
+      {"examples", examples}};
+
+  const fs::path dir(directory);
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw IoError(directory + ": cannot create directory: " + ec.message());
+  // Blob first, manifest last: a manifest under its final name always describes a complete blob.
+  writeFileAtomically(dir / kStampBlobFile, blob.data(), blob.size());
+  const std::string text = manifest.dump(1);
+  writeFileAtomically(dir / kManifestFile, text.data(), text.size());
+}
+
+ExampleSet loadExampleSet(const std::string& directory) {
+  if (!hostIsLittleEndian()) throw IoError(directory + ": example sets are little-endian; big-endian hosts are not supported");
+  const fs::path dir(directory);
+  const std::string manifestPath = (dir / kManifestFile).string();
+  const ManifestReader r(manifestPath);
+
+  std::ifstream manifestStream(manifestPath);
+  if (!manifestStream) throw IoError(manifestPath + ": cannot open (missing manifest?)");
+  json manifest;
+  try {
+    manifest = json::parse(manifestStream);
+  } catch (const json::exception& e) {
+    r.fail(std::string("not valid JSON: ") + e.what());
+  }
+
+  if (r.string(manifest, "format", "manifest") != kExampleSetFormatName) r.fail("format is not " + std::string(kExampleSetFormatName));
+  const int version = r.integer(manifest, "format_version", "manifest");
+  if (version != kExampleSetFormatVersion)
+    r.fail("unsupported format_version " + std::to_string(version) + " (this build reads " +
+           std::to_string(kExampleSetFormatVersion) + ")");
+  r.string(manifest, "package_version", "manifest");
+  const json& units = r.field(manifest, "units", "manifest");
+  if (r.string(units, "length", "manifest.units") != "m") r.fail("units.length must be \"m\"");
+  if (r.string(units, "stamp_displacement", "manifest.units") != "m") r.fail("units.stamp_displacement must be \"m\"");
+
+  ExampleSet set;
+  set.metadata.scene = r.string(manifest, "scene", "manifest");
+  set.metadata.description = r.string(manifest, "description", "manifest");
+  const json& material = r.field(manifest, "material", "manifest");
+  if (!material.is_object()) r.fail("field manifest.material is not an object");
+  for (const auto& item : material.items()) set.metadata.material[item.key()] = r.number(material, item.key(), "manifest.material");
+
+  const json& blobInfo = r.field(manifest, "stamp_blob", "manifest");
+  if (r.string(blobInfo, "file", "manifest.stamp_blob") != kStampBlobFile) r.fail("stamp_blob.file must be " + std::string(kStampBlobFile));
+  if (r.string(blobInfo, "dtype", "manifest.stamp_blob") != "float32_le") r.fail("stamp_blob.dtype must be float32_le");
+  const json& sizeField = r.field(blobInfo, "size_bytes", "manifest.stamp_blob");
+  if (!sizeField.is_number_unsigned()) r.fail("field manifest.stamp_blob.size_bytes is not a non-negative integer");
+  const std::uint64_t declaredSize = sizeField.get<std::uint64_t>();
+  const std::string declaredHash = r.string(blobInfo, "fnv1a64", "manifest.stamp_blob");
+
+  const json& examples = r.field(manifest, "examples", "manifest");
+  if (!examples.is_array() || examples.empty()) r.fail("field manifest.examples is not a non-empty array");
+
+  // Blob: size first (cheap, catches truncation), then checksum, then per-example values.
+  const std::string blobPath = (dir / kStampBlobFile).string();
+  std::error_code ec;
+  const std::uintmax_t actualSize = fs::file_size(blobPath, ec);
+  if (ec) throw IoError(blobPath + ": cannot open (missing stamp blob?)");
+  if (actualSize != declaredSize)
+    throw IoError(blobPath + ": size " + std::to_string(actualSize) + " bytes, manifest says " + std::to_string(declaredSize) +
+                  " (truncated or extended)");
+  std::vector<char> blob(static_cast<std::size_t>(actualSize));
+  {
+    std::ifstream in(blobPath, std::ios::binary);
+    if (!in || !in.read(blob.data(), static_cast<std::streamsize>(blob.size())))
+      throw IoError(blobPath + ": read failed");
+  }
+  const std::string actualHash = hex64(fnv1a64(blob.data(), blob.size()));
+  if (actualHash != declaredHash)
+    throw IoError(blobPath + ": checksum mismatch (fnv1a64 " + actualHash + ", manifest says " + declaredHash + ")");
+
+  std::uint64_t expectedOffset = 0;
+  for (std::size_t i = 0; i < examples.size(); ++i) {
+    const std::string p = "manifest.examples[" + std::to_string(i) + "]";
+    const json& e = examples[i];
+    Example ex;
+    const std::vector<double> c = r.numbers(r.field(e, "contact", p), p + ".contact", 3);
+    ex.contact = Eigen::Vector3d(c[0], c[1], c[2]);
+    const json& rows = r.field(e, "frame_rows", p);
+    if (!rows.is_array() || rows.size() != 3) r.fail("field " + p + ".frame_rows is not 3 rows");
+    for (int row = 0; row < 3; ++row) {
+      const std::vector<double> v = r.numbers(rows[row], p + ".frame_rows[" + std::to_string(row) + "]", 3);
+      for (int col = 0; col < 3; ++col) ex.frame(row, col) = v[col];
+    }
+    ex.rho = r.moments(e, "rho", p);
+    ex.mu = r.moments(e, "mu", p);
+    if (ex.rho.channels() != 1) r.fail("field " + p + ".rho must have 1 channel");
+    if (ex.mu.channels() != 3) r.fail("field " + p + ".mu must have 3 channels");
+    if (i > 0 && (!sameLayout(ex.rho, set.examples[0].rho) || !sameLayout(ex.mu, set.examples[0].mu)))
+      r.fail("field " + p + " has descriptor orders that differ from example 0");
+    ex.stampRadius = r.number(e, "stamp_radius", p);
+    const int stampRows = r.integer(e, "stamp_rows", p);
+    const int stampCols = r.integer(e, "stamp_cols", p);
+    if (stampRows < 2 || stampCols < 2 || stampRows > 4096 || stampCols > 4096)
+      r.fail("field " + p + " stamp size " + std::to_string(stampRows) + "x" + std::to_string(stampCols) + " outside [2, 4096]");
+    // eq. (16) blends stamps node by node, so a set shares one grid: same size and radius.
+    if (i > 0 && (stampRows != set.examples[0].stamp.rows || stampCols != set.examples[0].stamp.cols))
+      r.fail("field " + p + " stamp size differs from example 0 (a set shares one stamp grid)");
+    if (i > 0 && std::abs(ex.stampRadius - set.examples[0].stampRadius) > 1e-9 * std::abs(set.examples[0].stampRadius))
+      r.fail("field " + p + ".stamp_radius differs from example 0 (a set shares one stamp grid)");
+    const json& offsetField = r.field(e, "stamp_offset_bytes", p);
+    if (!offsetField.is_number_unsigned() || offsetField.get<std::uint64_t>() != expectedOffset)
+      r.fail("field " + p + ".stamp_offset_bytes is not " + std::to_string(expectedOffset) + " (stamps must be packed in order)");
+    const std::uint64_t bytes = static_cast<std::uint64_t>(stampRows) * static_cast<std::uint64_t>(stampCols) * 3 * sizeof(float);
+    if (expectedOffset + bytes > blob.size())
+      throw IoError(blobPath + ": example " + std::to_string(i) + " stamp ends at byte " + std::to_string(expectedOffset + bytes) +
+                    " past the blob's " + std::to_string(blob.size()));
+    ex.stamp.create(stampRows, stampCols, CV_32FC3);
+    std::memcpy(ex.stamp.ptr(), blob.data() + expectedOffset, bytes);
+    expectedOffset += bytes;
+    const json& pattern = r.field(e, "pattern", p);
+    ex.pattern.indentDepth = r.number(pattern, "indent_depth", p + ".pattern");
+    const std::vector<double> drag = r.numbers(r.field(pattern, "drag", p + ".pattern"), p + ".pattern.drag", 3);
+    ex.pattern.drag = Eigen::Vector3d(drag[0], drag[1], drag[2]);
+    ex.sceneId = r.string(e, "scene_id", p);
+
+    if (!cv::checkRange(ex.stamp, true)) throw IoError(blobPath + ": example " + std::to_string(i) + " stamp contains NaN or Inf");
+    const std::string problem = exampleProblem(ex);
+    if (!problem.empty()) r.fail("example " + std::to_string(i) + ": " + problem);
+    set.examples.push_back(std::move(ex));
+  }
+  if (expectedOffset != blob.size())
+    throw IoError(blobPath + ": " + std::to_string(blob.size() - expectedOffset) + " bytes not used by any example");
+  return set;
+}
+
+}  // namespace deformation_enrichment::examples

@@ -1,0 +1,149 @@
+// shape_space_server: services that smooth recorded deformation sequences in shape space, compute geodesics
+// and Bezier curves between meshes of one topology (paper 004). Meshes travel as PointCloud2 vertex arrays
+// over one shared triangle list. Bad input gets success = false and a message naming the problem.
+#include <ros/ros.h>
+
+#include <chrono>
+
+#include "deformation_enrichment/BezierCurve.h"
+#include "deformation_enrichment/ComputeGeodesic.h"
+#include "deformation_enrichment/SmoothSequence.h"
+#include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/mesh/polygon_triangulation.hpp"
+#include "deformation_enrichment/ros/conversions.hpp"
+#include "deformation_enrichment/shape_space/discrete_shells.hpp"
+#include "deformation_enrichment/shape_space/geodesic.hpp"
+#include "deformation_enrichment/shape_space/smoothing_flow.hpp"
+
+namespace de = deformation_enrichment;
+namespace ss = de::shape_space;
+
+namespace {
+
+class ShapeSpaceServer {
+public:
+  explicit ShapeSpaceServer(ros::NodeHandle privateNh) {
+    const std::string membrane = privateNh.param<std::string>("membrane", "hyperelastic");
+    if (membrane == "discrete_shells") {
+      parameters_ = ss::DiscreteShellsParameters::classic();
+    } else {
+      if (membrane != "hyperelastic") ROS_ERROR("unknown ~membrane '%s', using 'hyperelastic'", membrane.c_str());
+      parameters_ = ss::DiscreteShellsParameters::hyperelastic(privateNh.param("bending_weight", 1e-3));
+    }
+    maxShapes_ = privateNh.param("max_shapes", 2000);
+    smooth_ = privateNh.advertiseService("smooth_sequence", &ShapeSpaceServer::smooth, this);
+    geodesic_ = privateNh.advertiseService("compute_geodesic", &ShapeSpaceServer::geodesic, this);
+    bezier_ = privateNh.advertiseService("bezier_curve", &ShapeSpaceServer::bezier, this);
+  }
+
+private:
+  static Eigen::Matrix3Xi triangles(const pcl_msgs::PolygonMesh& topology, Eigen::Index numVertices) {
+    const Eigen::Matrix3Xi result = de::mesh::fanTriangulate(
+        topology.polygons, numVertices, [](const pcl_msgs::Vertices& p) -> const auto& { return p.vertices; });
+    if (result.cols() == 0) throw de::InvalidInputError("topology has no triangles");
+    return result;
+  }
+
+  static Eigen::VectorXd shape(const sensor_msgs::PointCloud2& cloud, const std::string& name) {
+    try {
+      return ss::flatten(de::ros_layer::positionsFromCloud(cloud).cast<double>());
+    } catch (const de::Error& e) {
+      throw de::InvalidInputError(name + ": " + e.what());
+    }
+  }
+
+  static sensor_msgs::PointCloud2 cloud(const Eigen::VectorXd& flat, const std_msgs::Header& header) {
+    return de::ros_layer::cloudFromPositions(ss::unflatten(flat).cast<float>(), header);
+  }
+
+  ss::ShapeSequence sequence(const pcl_msgs::PolygonMesh& topology, const std::vector<sensor_msgs::PointCloud2>& clouds,
+                             int minShapes) const {
+    if (clouds.size() > static_cast<size_t>(maxShapes_))
+      throw de::InvalidInputError("too many shapes: " + std::to_string(clouds.size()) + " > ~max_shapes");
+    if (clouds.size() < static_cast<size_t>(minShapes))
+      throw de::InvalidInputError("need at least " + std::to_string(minShapes) + " shapes, got " +
+                                  std::to_string(clouds.size()));
+    ss::ShapeSequence result;
+    for (size_t i = 0; i < clouds.size(); ++i) result.shapes.push_back(shape(clouds[i], "shape " + std::to_string(i)));
+    result.triangles = triangles(topology, result.numVertices());
+    ss::validateSequence(result, minShapes);
+    return result;
+  }
+
+  template <class Response, class Work>
+  bool serve(const char* what, Response& response, Work work) {
+    const auto start = std::chrono::steady_clock::now();
+    try {
+      work();
+      response.success = true;
+      response.message = "ok";
+    } catch (const de::Error& e) {
+      response.success = false;
+      response.message = e.what();
+      ROS_ERROR("%s failed: %s", what, e.what());
+    }
+    response.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return true;  // the service call itself succeeded; success says whether the work did
+  }
+
+  bool smooth(de::SmoothSequence::Request& request, de::SmoothSequence::Response& response) {
+    return serve("smooth_sequence", response, [&] {
+      ss::ShapeSequence input = sequence(request.topology, request.shapes, 3);
+      const ss::DiscreteShells energy(input.triangles, input.numVertices(), parameters_);
+      ss::FlowOptions options;
+      options.tau = request.tau > 0.0 ? request.tau : 0.5;
+      options.rho = request.restoring;
+      options.closed = request.closed;
+      options.reduced = request.subspace > 0;
+      if (options.reduced) options.subspaceDimension = static_cast<int>(request.subspace);
+      ss::SmoothingFlow flow(energy, std::move(input), options);
+      response.path_energy.push_back(flow.pathEnergy());
+      for (uint32_t k = 0; k < request.iterations; ++k) response.path_energy.push_back(flow.step().pathEnergy);
+      for (size_t i = 0; i < request.shapes.size(); ++i)
+        response.shapes.push_back(cloud(flow.current().shapes[i], request.shapes[i].header));
+    });
+  }
+
+  bool geodesic(de::ComputeGeodesic::Request& request, de::ComputeGeodesic::Response& response) {
+    return serve("compute_geodesic", response, [&] {
+      const Eigen::VectorXd a = shape(request.start, "start"), b = shape(request.end, "end");
+      if (a.size() != b.size()) throw de::InvalidInputError("start and end have different vertex counts");
+      const Eigen::Matrix3Xi tris = triangles(request.topology, a.size() / 3);
+      const ss::DiscreteShells energy(tris, a.size() / 3, parameters_);
+      ss::GeodesicOptions options;
+      options.shapes = static_cast<int>(request.shapes);
+      options.flow.reduced = request.subspace > 0;
+      if (options.flow.reduced) options.flow.subspaceDimension = static_cast<int>(request.subspace);
+      const ss::GeodesicResult result = ss::geodesic(energy, tris, a, b, options);
+      response.path_energy = result.pathEnergyHistory;
+      response.length = result.length;
+      for (const auto& s : result.shapes) response.shapes.push_back(cloud(s, request.start.header));
+    });
+  }
+
+  bool bezier(de::BezierCurve::Request& request, de::BezierCurve::Response& response) {
+    return serve("bezier_curve", response, [&] {
+      const ss::ShapeSequence controls = sequence(request.topology, request.controls, 2);
+      if (request.samples < 2) throw de::InvalidInputError("need at least 2 samples");
+      const ss::DiscreteShells energy(controls.triangles, controls.numVertices(), parameters_);
+      ss::GeodesicOptions options;
+      options.shapes = request.shapes_per_geodesic > 0 ? static_cast<int>(request.shapes_per_geodesic) : 8;
+      const auto curve =
+          ss::bezierCurve(energy, controls.triangles, controls.shapes, static_cast<int>(request.samples), options);
+      for (const auto& s : curve) response.shapes.push_back(cloud(s, request.controls.front().header));
+    });
+  }
+
+  ss::DiscreteShellsParameters parameters_;
+  int maxShapes_ = 2000;
+  ros::ServiceServer smooth_, geodesic_, bezier_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "shape_space_server");
+  ShapeSpaceServer server(ros::NodeHandle("~"));
+  ros::spin();
+  return 0;
+}

@@ -1,0 +1,70 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/mesh/barycentric_embedding.hpp"
+#include "deformation_enrichment/mesh/grid_tet_mesh.hpp"
+#include "deformation_enrichment/mesh/tet_surface.hpp"
+
+using namespace deformation_enrichment;
+
+TEST(BarycentricEmbedding, FineSurfaceReproducesAffineDisplacementExactly) {
+  // Graded coarse grid and a finer grid of the same box (its surface plays the fine surface), plus points
+  // pushed slightly outside the coarse box to exercise the nearest-tet extension.
+  Eigen::VectorXd xs(4), ys(3), zs(3);
+  xs << -0.05, -0.01, 0.02, 0.05;
+  ys << -0.05, 0.03, 0.05;
+  zs << 0.0, 0.015, 0.02;
+  const mesh::TetMesh coarse = mesh::gridTetMesh(xs, ys, zs);
+  const mesh::TetMesh fine = mesh::gridTetMesh(Eigen::Vector3d(-0.05, -0.05, 0.0), Eigen::Vector3d(0.05, 0.05, 0.02),
+                                               Eigen::Vector3i(9, 7, 5));
+  Eigen::Matrix3Xd points = mesh::extractSurface(fine).surface.vertices;
+  const Eigen::Index inside = points.cols();
+  points.conservativeResize(3, inside + 2);
+  points.col(inside) << 0.0501, 0.0, 0.01;
+  points.col(inside + 1) << -0.02, 0.01, 0.0202;
+
+  const mesh::BarycentricEmbedding embedding = mesh::embedPoints(coarse, points, 1e-3);
+  EXPECT_LT(embedding.outside.head(inside).maxCoeff(), 1e-15);  // surface points: inside up to round-off
+  EXPECT_NEAR(embedding.outside[inside], 1e-4, 1e-9);
+  EXPECT_NEAR(embedding.outside[inside + 1], 2e-4, 1e-9);
+
+  Eigen::Matrix3d A;
+  A << 0.1, -0.3, 0.2, 0.05, 0.4, -0.1, 0.3, 0.0, -0.2;
+  const Eigen::Vector3d b(0.01, -0.02, 0.005);
+  const Eigen::Matrix3Xd coarseField = (A * coarse.vertices).colwise() + b;
+  const Eigen::Matrix3Xd expected = (A * points).colwise() + b;
+  const Eigen::Matrix3Xd interpolated = mesh::interpolate(embedding, coarse, coarseField);
+  EXPECT_LT((interpolated - expected).cwiseAbs().maxCoeff(), 1e-15);
+  for (Eigen::Index i = 0; i < embedding.weights.cols(); ++i) EXPECT_NEAR(embedding.weights.col(i).sum(), 1.0, 1e-14);
+}
+
+TEST(BarycentricEmbedding, RandomInteriorPointsAreInsideTheirTet) {
+  const mesh::TetMesh coarse = mesh::gridTetMesh(Eigen::Vector3d::Zero(), Eigen::Vector3d(1, 2, 1), Eigen::Vector3i(3, 4, 2));
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Eigen::Matrix3Xd points(3, 500);
+  for (Eigen::Index i = 0; i < points.cols(); ++i) points.col(i) << unit(rng), 2.0 * unit(rng), unit(rng);
+  const mesh::BarycentricEmbedding embedding = mesh::embedPoints(coarse, points, 0.0);
+  for (Eigen::Index i = 0; i < points.cols(); ++i) {
+    EXPECT_GE(embedding.weights.col(i).minCoeff(), -1e-12);
+    Eigen::Vector3d back = Eigen::Vector3d::Zero();
+    for (int c = 0; c < 4; ++c) back += embedding.weights(c, i) * coarse.vertices.col(coarse.tets(c, embedding.tet[i]));
+    EXPECT_LT((back - points.col(i)).norm(), 1e-14);
+  }
+}
+
+TEST(BarycentricEmbedding, RejectsFarPointsNaNAndWrongFieldSize) {
+  const mesh::TetMesh coarse = mesh::gridTetMesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), Eigen::Vector3i(2, 2, 2));
+  Eigen::Matrix3Xd far(3, 1);
+  far << 3.0, 0.5, 0.5;
+  EXPECT_THROW(mesh::embedPoints(coarse, far, 0.1), InvalidInputError);
+  Eigen::Matrix3Xd nan(3, 1);
+  nan << 0.5, std::nan(""), 0.5;
+  EXPECT_THROW(mesh::embedPoints(coarse, nan, 0.1), InvalidInputError);
+  Eigen::Matrix3Xd inside(3, 1);
+  inside << 0.5, 0.5, 0.5;
+  const auto embedding = mesh::embedPoints(coarse, inside, 0.0);
+  EXPECT_THROW(mesh::interpolate(embedding, coarse, Eigen::Matrix3Xd::Zero(3, 5)), InvalidInputError);
+}
