@@ -157,8 +157,8 @@ AverageResult elasticAverage(const DeformationEnergy& energy, const std::vector<
     }
     if (accepted && stalledSteps >= 3) {
       // Three accepted steps in a row that changed the objective by less than 1e-13 relative: the computed
-      // objective cannot be lowered further at double precision (seen on MD2 meshes whose skinny triangles
-      // make the Hessian extremely stiff). That is a minimiser to working precision; it is flagged.
+      // objective cannot be lowered further at double precision (seen on jittered MD2 meshes, whose skinny
+      // triangles make the Hessian extremely stiff). A minimiser to working precision; it is flagged.
       result.objective = f;
       result.iterations = it + 1;
       result.stalledAtRoundOff = true;

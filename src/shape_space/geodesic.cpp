@@ -43,6 +43,7 @@ GeodesicResult geodesic(const DeformationEnergy& energy, const Eigen::Matrix3Xi&
   FlowOptions flowOptions = options.flow;
   flowOptions.closed = false;
   flowOptions.rho = 0.0;
+  flowOptions.acceptResidualDecrease = true;  // eq. 10: converge to its own fixed point (see FlowOptions)
 
   GeodesicResult result;
   std::vector<Eigen::VectorXd> shapes{a, b};

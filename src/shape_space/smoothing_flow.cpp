@@ -187,11 +187,12 @@ Eigen::Index SmoothingFlow::degreesOfFreedom() const {
   return dof;
 }
 
-std::vector<Eigen::VectorXd> SmoothingFlow::trialStep(double tau) const {
+std::vector<Eigen::VectorXd> SmoothingFlow::trialStep(double tau, int* iterations) const {
   const int count = int(current_.shapes.size());
   const std::vector<Eigen::VectorXd>& x = current_.shapes;
   std::vector<Eigen::VectorXd> next = x;
   std::exception_ptr error;
+  int totalIterations = 0;
 #pragma omp parallel for schedule(dynamic) if (options_.parallelShapes && parallelWorthIt(x))
   for (int i = 0; i < count; ++i) {
     if (!isFree(i) || error) continue;
@@ -227,12 +228,15 @@ std::vector<Eigen::VectorXd> SmoothingFlow::trialStep(double tau) const {
         result = elasticAverage(energy_, weights, examples, x[size_t(i)], solverOptions);
       }
       next[size_t(i)] = std::move(result.shape);
+#pragma omp atomic
+      totalIterations += result.iterations;
     } catch (...) {
 #pragma omp critical
       error = std::current_exception();
     }
   }
   if (error) std::rethrow_exception(error);
+  if (iterations) *iterations = totalIterations;
   return next;
 }
 
@@ -241,15 +245,20 @@ FlowStep SmoothingFlow::step() {
   const double before = pathEnergy();
   // eq. 10 averaging is not the gradient flow of eq. 4 (only eq. 1 is, Lemma 2), so near its own fixed
   // points eq. 4 may not decrease: there a step is also accepted if it reduces the flow's residual.
-  const double residualBefore = options_.symmetricAverage ? 0.0 : reducedResidualSquaredNorm();
+  const bool byResidual = options_.acceptResidualDecrease && !options_.symmetricAverage;
+  const double residualBefore = byResidual ? reducedResidualSquaredNorm() : 0.0;
   double tau = options_.tau;
   for (int halving = 0; halving <= options_.maxTauHalvings; ++halving, tau *= 0.5) {
-    std::vector<Eigen::VectorXd> next = trialStep(tau);
+    int iterations = 0;
+    std::vector<Eigen::VectorXd> next = trialStep(tau, &iterations);
     const double after = pathEnergy(next);
     // With a restoring force the flow trades path energy against fidelity, so only rho = 0 is controlled.
     bool accept = std::isfinite(after) && (after < before || options_.rho > 0.0);
-    if (!accept && std::isfinite(after) && !options_.symmetricAverage)
+    if (!accept && std::isfinite(after) && byResidual) {
       accept = reducedResidualSquaredNorm(next) < residualBefore;
+      report.byResidual = accept;
+    }
+    report.solverIterations = iterations;
     if (accept) {
       current_.shapes = std::move(next);
       report.pathEnergy = after;

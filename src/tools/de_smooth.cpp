@@ -68,13 +68,14 @@ int main(int argc, char** argv) {
     ss::SmoothingFlow flow(energy, sequence, options);
     nlohmann::json energies = nlohmann::json::array();
     energies.push_back(flow.pathEnergy());
-    nlohmann::json taus = nlohmann::json::array();
+    nlohmann::json taus = nlohmann::json::array(), solverIterations = nlohmann::json::array();
     std::cerr << "de_smooth: " << inputs.size() << " shapes, " << sequence.numVertices() << " vertices, path energy "
               << flow.pathEnergy() << "\n";
     for (int k = 0; k < iterations; ++k) {
       const ss::FlowStep step = flow.step();
       energies.push_back(step.pathEnergy);
       taus.push_back(step.tau);
+      solverIterations.push_back(step.solverIterations);
       std::cerr << "  step " << k + 1 << ": path energy " << step.pathEnergy << " tau " << step.tau
                 << (step.stalled ? " (stalled: no tau decreases the path energy)" : "") << "\n";
       if (step.stalled) break;
@@ -89,6 +90,7 @@ int main(int argc, char** argv) {
       nlohmann::json out;
       out["path_energy"] = energies;
       out["tau"] = taus;
+      out["solver_iterations"] = solverIterations;
       out["seconds"] = seconds;
       out["shapes"] = inputs.size();
       out["vertices"] = sequence.numVertices();

@@ -97,6 +97,7 @@ void smoothingStep(benchmark::State& state) {
   state.counters["path_energy_before"] = before;
   state.counters["path_energy_after"] = flow.pathEnergy();
   state.counters["tau"] = step.tau;
+  state.counters["solver_iterations"] = step.solverIterations;
   state.counters["seconds_per_shape"] = benchmark::Counter(double(seq.numShapes() - 2), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
   state.counters["vertices"] = double(seq.numVertices());
   state.counters["frames"] = double(seq.numShapes());

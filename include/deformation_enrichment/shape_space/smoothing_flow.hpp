@@ -25,6 +25,11 @@ struct FlowOptions {
   std::vector<int> restoredShapes;   ///< shapes that feel rho; empty = all
   bool symmetricAverage = false;     ///< eq. 1 instead of eq. 10 in every average
   int maxTauHalvings = 12;           ///< step control; after that the step is reported as stalled
+  /// eq. 10 averaging is not the gradient flow of eq. 4, so near its own fixed points no tau may lower
+  /// eq. 4. If set, such a step is still accepted when it lowers the flow's residual
+  /// (reducedResidualSquaredNorm); geodesic() sets it for eq. 10. Off (default): eq. 4 decreases every
+  /// accepted step, and the flow reports a stall instead.
+  bool acceptResidualDecrease = false;
   bool reduced = false;              ///< reduced (subspace + L-BFGS) instead of full-space Newton
   int subspaceDimension = 16;        ///< PCA directions of the sequence (reduced mode)
   int flowDirectionShapes = 20;      ///< below this many shapes, flow tangents enrich the subspace (paper: 20)
@@ -40,6 +45,8 @@ struct FlowStep {
   double tau = 0.0;         ///< step size that was accepted
   int halvings = 0;
   bool stalled = false;     ///< no tau decreased the path energy: the sequence was left unchanged
+  bool byResidual = false;  ///< accepted because the residual decreased (acceptResidualDecrease)
+  int solverIterations = 0; ///< Newton or L-BFGS iterations summed over the shapes (accepted trial)
 };
 
 class SmoothingFlow {
@@ -74,7 +81,7 @@ public:
   void setCurrent(std::vector<Eigen::VectorXd> shapes);
 
 private:
-  std::vector<Eigen::VectorXd> trialStep(double tau) const;
+  std::vector<Eigen::VectorXd> trialStep(double tau, int* iterations) const;
   bool isFree(int i) const;
 
   const DeformationEnergy& energy_;
