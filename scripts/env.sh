@@ -5,6 +5,8 @@ DE_BUILD="${DE_BUILD:-$DE_ROOT/build}"
 export PATH=/usr/bin:$PATH
 export ROS_HOME="$DE_BUILD/ros_home" ROS_HOSTNAME="${ROS_HOSTNAME:-127.0.0.1}"
 mkdir -p "$ROS_HOME"
+# Idle OpenMP threads sleep instead of spinning (spinning threads starve each other on 2 cores).
+export OMP_WAIT_POLICY="${OMP_WAIT_POLICY:-PASSIVE}"
 
 de_build() {  # de_build [extra targets...]: configure (Release) and build the package and the given targets
   mkdir -p "$DE_BUILD"

@@ -1,8 +1,8 @@
 #include "deformation_enrichment/shape_space/rigid_interpolation.hpp"
 
-#include <Eigen/SVD>
 
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/kinematics/kabsch.hpp"
 #include "deformation_enrichment/shape_space/shape_sequence.hpp"
 
 namespace deformation_enrichment::shape_space {
@@ -10,16 +10,10 @@ namespace deformation_enrichment::shape_space {
 RigidTransform kabsch(const Eigen::VectorXd& from, const Eigen::VectorXd& to) {
   if (from.size() != to.size() || from.size() % 3 != 0 || from.size() == 0)
     throw InvalidInputError("kabsch: position vectors must be non-empty, equally long and multiples of 3");
-  if (!from.allFinite() || !to.allFinite()) throw InvalidInputError("kabsch: non-finite positions");
-  const Eigen::Matrix3Xd p = unflatten(from), q = unflatten(to);
-  const Eigen::Vector3d pc = p.rowwise().mean(), qc = q.rowwise().mean();
-  const Eigen::Matrix3d cov = (q.colwise() - qc) * (p.colwise() - pc).transpose();
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(cov, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
-  d(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;  // no reflections
+  const kinematics::RigidTransform fit = kinematics::kabsch(unflatten(from), unflatten(to));
   RigidTransform motion;
-  motion.rotation = svd.matrixU() * d * svd.matrixV().transpose();
-  motion.translation = qc - motion.rotation * pc;
+  motion.rotation = fit.R;
+  motion.translation = fit.t;
   return motion;
 }
 

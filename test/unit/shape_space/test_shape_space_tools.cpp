@@ -33,8 +33,7 @@ std::string tool(const char* name) { return (fs::path(DE_TOOL_DIR) / name).strin
 }  // namespace
 
 TEST(ShapeSpaceTools, SmoothAndGeodesicWriteMeshesAndJson) {
-  if (!fs::exists(tool("de_smooth")) || !fs::exists(tool("de_geodesic")))
-    GTEST_SKIP() << "build the de_smooth and de_geodesic targets first";
+  ASSERT_TRUE(fs::exists(tool("de_smooth")) && fs::exists(tool("de_geodesic"))) << "tools not found in " << DE_TOOL_DIR;
   const fs::path dir = fs::path(::testing::TempDir()) / "de_shape_space_tools";
   fs::remove_all(dir);
   fs::create_directories(dir);
