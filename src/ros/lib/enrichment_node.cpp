@@ -91,6 +91,10 @@ void EnrichmentNode::reject(const std::string& input, const std::string& why) {
 
 void EnrichmentNode::setRestMesh(mesh::TriangleMesh rest, const std::string& source) {
   mesh::validate(rest, false);
+  // A latched topic re-sends the same mesh to every new connection: keep the state then.
+  if (rest_ && rest_->numVertices() == rest.numVertices() && rest_->numTriangles() == rest.numTriangles() &&
+      rest_->vertices == rest.vertices && rest_->triangles == rest.triangles)
+    return;
   restNormals_ = mesh::vertexNormals(rest);
   ROS_INFO("rest mesh from %s: %ld vertices, %ld triangles", source.c_str(), static_cast<long>(rest.numVertices()),
            static_cast<long>(rest.numTriangles()));
