@@ -285,16 +285,16 @@ TEST_F(EnrichmentNodeTest, SegmentSitesLabelsEveryVertexSymmetricallyAndRejectsB
   EXPECT_TRUE(roundTrip(goodState())) << "the node must keep enriching after a failed segmentation";
 }
 
-TEST_F(EnrichmentNodeTest, ExampleSetEnrichesOnlyAtTheContactSurvivesACorruptSetAndFadesOnLiftOff) {
-  setRest(slabSurface(20));
-  // A one-example set made with the package's own pipeline: a dent at the top centre, stamp 1 mm inwards.
-  Eigen::Matrix3Xd dented = rest_.vertices;
+/// A one-example set made with the package's own pipeline on `rest`: a dent at the top centre, stamp 1 mm
+/// inwards. Returns the dented state; writes the set to `directory`.
+Eigen::Matrix3Xd makeDentExampleSet(const de::mesh::TriangleMesh& rest, const std::string& directory) {
+  Eigen::Matrix3Xd dented = rest.vertices;
   for (Eigen::Index v = 0; v < dented.cols(); ++v)
     dented(2, v) -= 0.002 * std::exp(-dented.col(v).head<2>().squaredNorm() / (2 * 0.008 * 0.008)) * dented(2, v) / 0.02;
   de::enrichment::ContactEnricherOptions options;
   options.descriptors.window.scale = 0.006;
   options.stampRadius = 0.02;
-  const de::enrichment::ContactEnricher describer(rest_, options);
+  const de::enrichment::ContactEnricher describer(rest, options);
   de::enrichment::Contact contact;
   contact.point = Eigen::Vector3d(0, 0, 0.02);
   const auto description = describer.describe(dented, contact);
@@ -309,8 +309,14 @@ TEST_F(EnrichmentNodeTest, ExampleSetEnrichesOnlyAtTheContactSurvivesACorruptSet
   set.metadata.scene = "rostest";
   set.metadata.material["window_scale_m"] = 0.006;
   set.examples.push_back(example);
+  de::examples::saveExampleSet(set, directory);
+  return dented;
+}
+
+TEST_F(EnrichmentNodeTest, ExampleSetEnrichesOnlyAtTheContactSurvivesACorruptSetAndFadesOnLiftOff) {
+  setRest(slabSurface(20));
   const std::string good = ::testing::TempDir() + "de_rostest_set", bad = ::testing::TempDir() + "de_rostest_bad_set";
-  de::examples::saveExampleSet(set, good);
+  const Eigen::Matrix3Xd dented = makeDentExampleSet(rest_, good);
 
   de::LoadExampleSet load;
   load.request.path = good;
@@ -373,6 +379,52 @@ TEST_F(EnrichmentNodeTest, ExampleSetEnrichesOnlyAtTheContactSurvivesACorruptSet
   sensor_msgs::PointCloud2 state = cloudFromPositions(dented.cast<float>(), lifted.header);
   ASSERT_TRUE(roundTrip(state));
   EXPECT_EQ(findEnriched(state.header.stamp)->data, state.data) << "detail must vanish when the tool lifts off";
+}
+
+TEST_F(EnrichmentNodeTest, TwoToolsWithOverlappingStampsGiveAContinuousSurface) {
+  setRest(slabSurface(40));  // 2.5 mm grid on the top
+  const std::string directory = ::testing::TempDir() + "de_rostest_two_tools_set";
+  const Eigen::Matrix3Xd dented = makeDentExampleSet(rest_, directory);
+  de::LoadExampleSet load;
+  load.request.path = directory;
+  ASSERT_TRUE(ros::service::waitForService("enrichment/load_example_set", 10000));
+  ASSERT_TRUE(ros::service::call("enrichment/load_example_set", load));
+  ASSERT_TRUE(load.response.success) << load.response.message;
+
+  // Largest change of the added displacement along a mesh edge, for the given tool positions.
+  auto enrichWith = [&](const std::vector<double>& xs, Eigen::Matrix3Xf& added) {
+    de::ToolContactArray contacts;
+    contacts.header = header();
+    for (size_t i = 0; i < xs.size(); ++i) {
+      de::ToolContact tool;
+      tool.tool_id = "PSM" + std::to_string(i + 1);
+      tool.in_contact = true;
+      tool.position.x = xs[i];
+      tool.position.z = 0.019;
+      tool.normal.z = 1.0;
+      contacts.contacts.push_back(tool);
+    }
+    contactsPub_.publish(contacts);
+    ros::WallDuration(0.3).sleep();
+    const sensor_msgs::PointCloud2 state = cloudFromPositions(dented.cast<float>(), contacts.header);
+    if (!roundTrip(state)) return -1.0f;
+    added = de::ros_layer::positionsFromCloud(*findEnriched(state.header.stamp)) - de::ros_layer::positionsFromCloud(state);
+    float largestJump = 0.0f;
+    for (Eigen::Index t = 0; t < rest_.numTriangles(); ++t)
+      for (int k = 0; k < 3; ++k)
+        largestJump = std::max(largestJump, (added.col(rest_.triangles(k, t)) - added.col(rest_.triangles((k + 1) % 3, t))).norm());
+    return largestJump;
+  };
+  Eigen::Matrix3Xf oneTool, twoTools;
+  const float jumpOne = enrichWith({-0.0075}, oneTool);
+  // Two tools 1.5 cm apart: their 2 cm stamps overlap over the middle.
+  const float jumpTwo = enrichWith({-0.0075, 0.0075}, twoTools);
+  ASSERT_GT(jumpOne, 0.0f);
+  ASSERT_TRUE(twoTools.allFinite());
+  EXPECT_GT(twoTools.colwise().norm().maxCoeff(), 5e-4f) << "no detail was added";
+  EXPECT_LT(twoTools.colwise().norm().maxCoeff(), 1.3e-3f) << "overlapping stamps were added up";
+  // A seam where the stamps overlap would make the two-tool surface rougher than one stamp's own rim.
+  EXPECT_LE(jumpTwo, 1.1f * jumpOne) << "a seam between the two stamps";
 }
 
 }  // namespace
