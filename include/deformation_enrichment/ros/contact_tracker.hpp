@@ -39,8 +39,6 @@ public:
   /// (a rosbag loop) clears everything.
   std::vector<TrackedContact> active(const ros::Time& now);
 
-  void clear() { contacts_.clear(); }
-
 private:
   Eigen::Isometry3d toMeshFrame(const std_msgs::Header& header, const std::string& meshFrame) const;
 
