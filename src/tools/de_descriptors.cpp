@@ -21,6 +21,7 @@
 
 #include "deformation_enrichment/descriptors/evaluator_loading.hpp"
 #include "deformation_enrichment/error.hpp"
+#include "descriptor_cli.hpp"
 
 using namespace deformation_enrichment;
 using Json = nlohmann::ordered_json;
@@ -97,30 +98,21 @@ Json matrixJson(const Eigen::Matrix3d& m) {  // column-major, as the issue speci
 
 int main(int argc, char** argv) {
   CLI::App app{"Site / deformation descriptors (paper 000 §4) at given points, in world axes"};
-  std::string meshPath, pointsPath, deformedPath, quadrature = "volume";
-  int order = 3, deformationOrder = 2;
-  double scale = 0.0, cutoff = 4.0, spacing = 0.0;
+  tools::DescriptorCli cli;
+  std::string pointsPath, deformedPath;
+  int deformationOrder = 2;
   bool json = false;
-  app.add_option("--mesh", meshPath, "TetGen M.node (M.ele beside it), or a closed OBJ/PLY surface")->required();
+  cli.addTo(app);
   app.add_option("--points", pointsPath, "CSV file, one x,y,z per line")->required();
-  app.add_option("--order", order, "site descriptor order N (moments 0..N), 1..4")->capture_default_str();
   app.add_option("--deformation-order", deformationOrder, "deformation descriptor order (1..4)")->capture_default_str();
-  app.add_option("--scale", scale, "window scale h in metres")->required();
-  app.add_option("--quadrature", quadrature, "volume (lumped volumes) or average (paper eq. 8)")->capture_default_str();
-  app.add_option("--cutoff", cutoff, "cut-off radius in units of h")->capture_default_str();
   app.add_option("--deformed", deformedPath, "D.node with displaced positions of the same vertices");
-  app.add_option("--sample-spacing", spacing, "interior grid spacing for OBJ/PLY input (default h/4)");
   app.add_flag("--json", json, "print one JSON object (otherwise a short text summary)");
   CLI11_PARSE(app, argc, argv);
 
   try {
     descriptors::DescriptorOptions options;
-    options.window.scale = scale;
-    options.window.cutoff = cutoff;
-    options.window.quadrature = descriptors::parseQuadrature(quadrature);
-    options.siteOrder = order;
     options.deformationOrder = deformationOrder;
-    const descriptors::LoadedObject object = descriptors::loadDescriptorObject(meshPath, options, spacing);
+    const descriptors::LoadedObject object = cli.load(options);
     const std::vector<Eigen::Vector3d> points = readPoints(pointsPath);
     Eigen::Matrix3Xd deformed;
     if (!deformedPath.empty()) {
@@ -143,7 +135,7 @@ int main(int argc, char** argv) {
         const descriptors::ContactDescriptor contact =
             deformed.cols() > 0 ? object.evaluator.evaluate(p, deformed) : object.evaluator.evaluate(p);
         Json site;
-        for (int n = 0; n <= order; ++n) site[std::to_string(n)] = vectorJson(contact.rhoWorld.order(n));
+        for (int n = 0; n <= cli.order; ++n) site[std::to_string(n)] = vectorJson(contact.rhoWorld.order(n));
         entry["site"] = site;
         entry["frame"] = matrixJson(contact.frame.B);
         entry["frame_rule"] = descriptors::toString(contact.frame.rule);

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "deformation_enrichment/descriptors/evaluator_loading.hpp"
+#include "descriptor_cli.hpp"
 #include "deformation_enrichment/descriptors/site_segmentation.hpp"
 #include "deformation_enrichment/error.hpp"
 
@@ -18,37 +19,27 @@ using Json = nlohmann::ordered_json;
 
 int main(int argc, char** argv) {
   CLI::App app{"Site segmentation (paper 000 §6.1): k-means on d_rho over all surface vertices"};
-  std::string meshPath, quadrature = "volume", outputPath;
-  int order = 3, clusters = 6, restarts = 4;
-  double scale = 0.0, cutoff = 4.0, spacing = 0.0;
-  app.add_option("--mesh", meshPath, "TetGen M.node (M.ele beside it), or a closed OBJ/PLY surface")->required();
-  app.add_option("--scale", scale, "window scale h in metres")->required();
+  tools::DescriptorCli cli;
+  std::string outputPath;
+  int clusters = 6, restarts = 4;
+  cli.addTo(app);
   app.add_option("--clusters", clusters, "number of clusters k")->capture_default_str();
-  app.add_option("--order", order, "site descriptor order N (moments 0..N)")->capture_default_str();
-  app.add_option("--quadrature", quadrature, "volume or average")->capture_default_str();
-  app.add_option("--cutoff", cutoff, "cut-off radius in units of h")->capture_default_str();
   app.add_option("--restarts", restarts, "deterministic k-means++ restarts")->capture_default_str();
-  app.add_option("--sample-spacing", spacing, "interior grid spacing for OBJ/PLY input (default h/4)");
   app.add_option("--output", outputPath, "write the JSON here instead of stdout");
   CLI11_PARSE(app, argc, argv);
 
   try {
-    descriptors::DescriptorOptions options;
-    options.window.scale = scale;
-    options.window.cutoff = cutoff;
-    options.window.quadrature = descriptors::parseQuadrature(quadrature);
-    options.siteOrder = order;
-    const descriptors::LoadedObject object = descriptors::loadDescriptorObject(meshPath, options, spacing);
+    const descriptors::LoadedObject object = cli.load();
     descriptors::KMeansOptions kmeans;
     kmeans.clusters = clusters;
     kmeans.restarts = restarts;
     const descriptors::SiteSegmentation segmentation = descriptors::segmentSites(object.evaluator, kmeans);
 
     Json output;
-    output["mesh"] = meshPath;
+    output["mesh"] = cli.meshPath;
     output["sampling"] = object.sampling;
-    output["scale"] = scale;
-    output["order"] = order;
+    output["scale"] = cli.scale;
+    output["order"] = cli.order;
     output["clusters"] = clusters;
     output["inertia"] = segmentation.clusters.inertia;
     std::vector<int> sizes(clusters, 0);
