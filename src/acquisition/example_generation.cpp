@@ -63,9 +63,17 @@ Body makeBody(const scenes::Layering& layering, const SlabAcquisitionOptions& o)
 double solvePath(const Body& body, const PlanEntry& e, const SlabAcquisitionOptions& o, Eigen::Matrix3Xd& positions,
                  bool& converged, std::string& message) {
   const auto start = Clock::now();
-  // A coarse grid may have no vertex within the tool radius: widen the footprint to reach one (~0.71 cell).
-  const double radius = std::max(o.toolRadius, 0.75 * body.cellSize);
-  const std::vector<int> tool = scenes::toolFootprint(body.scene, e.point.head<2>(), radius);
+  // Dirichlet: a coarse grid may have no vertex within the tool radius, so the footprint widens to reach
+  // one (~0.71 cell). Penalty: the footprint integral loads whichever vertices' hat functions it covers.
+  std::vector<int> tool;
+  elasticity::AnchorSprings springs;
+  Eigen::Matrix3Xd springRest;
+  if (o.toolModel == ToolModel::Dirichlet) {
+    tool = scenes::toolFootprint(body.scene, e.point.head<2>(), std::max(o.toolRadius, 0.75 * body.cellSize));
+  } else {
+    springs = scenes::toolSprings(body.scene, e.point, o.toolRadius, o.toolStiffness);
+    springRest = springs.targets;
+  }
   const double dragDistance = e.drag.norm();
   const int dragSteps = dragDistance > 0.0 ? o.dragSteps : 0;
   const Eigen::Vector3d dragDirection = dragDistance > 0.0 ? Eigen::Vector3d(e.drag / dragDistance) : Eigen::Vector3d::UnitX();
@@ -76,7 +84,13 @@ double solvePath(const Body& body, const PlanEntry& e, const SlabAcquisitionOpti
   for (int step = 1; step <= o.indentSteps + dragSteps; ++step) {
     const Eigen::Vector3d u = scenes::toolDisplacement(step, o.indentSteps, dragSteps, -Eigen::Vector3d::UnitZ(), e.depth,
                                                        dragDirection, dragDistance);
-    const elasticity::SolveResult r = solver.solve(positions, scenes::toolConstraints(body.scene, tool, u));
+    elasticity::SolveResult r;
+    if (o.toolModel == ToolModel::Dirichlet) {
+      r = solver.solve(positions, scenes::toolConstraints(body.scene, tool, u));
+    } else {
+      springs.targets = springRest.colwise() + u;
+      r = solver.solve(positions, scenes::supportConstraints(body.scene), springs);
+    }
     if (!r.converged()) {
       converged = false;
       message += "step " + std::to_string(step) + ": " + r.message + "; ";
@@ -148,6 +162,11 @@ void applyResolutionMetadata(const std::map<std::string, double>& material, Slab
   get("fine_skin_layers", options.fine.skinLayers);
   const auto tool = material.find("tool_radius_m");
   if (tool != material.end()) options.toolRadius = tool->second;
+  // Sets written before the penalty tool existed carry no tool model: they used the Dirichlet tool.
+  const auto model = material.find("tool_model");
+  options.toolModel = model != material.end() && model->second == 1.0 ? ToolModel::Penalty : ToolModel::Dirichlet;
+  const auto stiffness = material.find("tool_stiffness_pa_per_m");
+  if (stiffness != material.end()) options.toolStiffness = stiffness->second;
   const auto h = material.find("window_scale_m");
   if (h != material.end()) options.enricher.descriptors.window.scale = h->second;
 }
@@ -200,6 +219,8 @@ std::map<std::string, double> SlabAcquisition::materialMetadata() const {
   return {{"bulk_young_pa", options_.bulkYoung}, {"bulk_poisson", options_.bulkPoisson},
           {"skin_young_pa", options_.skinYoung}, {"skin_poisson", options_.skinPoisson},
           {"skin_thickness_m", options_.fine.skinThickness}, {"tool_radius_m", options_.toolRadius},
+          {"tool_model", options_.toolModel == ToolModel::Penalty ? 1.0 : 0.0},
+          {"tool_stiffness_pa_per_m", options_.toolStiffness},
           {"window_scale_m", options_.enricher.descriptors.window.scale},
           {"coarse_cells_x", options_.coarse.cells.x()}, {"coarse_cells_y", options_.coarse.cells.y()},
           {"coarse_cells_z", options_.coarse.cells.z()}, {"fine_cells_x", options_.fine.cells.x()},

@@ -118,7 +118,8 @@ QuasiStaticSolver::QuasiStaticSolver(const TetFem& fem, SolverSettings settings)
 
 QuasiStaticSolver::~QuasiStaticSolver() = default;
 
-SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const DirichletConstraints& constraints) {
+SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const DirichletConstraints& constraints,
+                                     const AnchorSprings& springs) {
   const Clock::time_point start = Clock::now();
   const Eigen::Index V = fem_.numVertices();
   if (positions.cols() != V)
@@ -133,6 +134,7 @@ SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const Dirichle
     if (v < 0 || v >= V) throw InvalidInputError("QuasiStaticSolver: constraint vertex " + std::to_string(v) + " out of range");
     if (seen[static_cast<std::size_t>(v)]++) throw InvalidInputError("QuasiStaticSolver: vertex " + std::to_string(v) + " constrained twice");
   }
+  springs.validate(V);
   int freeCount = 0;
   const Eigen::VectorXi map = makeDofMap(V, constraints.vertices, &freeCount);
   if (freeCount == 0) throw InvalidInputError("QuasiStaticSolver: every vertex is constrained");
@@ -144,11 +146,33 @@ SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const Dirichle
   SolveResult result;
   result.freeDofs = freeCount;
 
-  double energy = fem_.energy(positions);
+  // The springs' energy is separable per vertex: its Hessian k_i I adds to the diagonal only.
+  const auto totalEnergy = [&](const Eigen::Matrix3Xd& x) { return fem_.energy(x) + springs.energy(x); };
+  const auto totalGradient = [&](const Eigen::Matrix3Xd& x) {
+    Eigen::VectorXd full = fem_.gradient(x);
+    springs.addGradient(x, full);
+    return full;
+  };
+  const auto assemble = [&](HessianKind kind, Eigen::SparseMatrix<double>& M) {
+    fem_.assembleReduced(positions, map, true, kind, M, nullptr);
+    for (std::size_t i = 0; i < springs.vertices.size(); ++i)
+      for (int axis = 0; axis < 3; ++axis) {
+        const int row = map[3 * springs.vertices[i] + axis];
+        if (row >= 0) M.valuePtr()[linear.diagonal[static_cast<std::size_t>(row)]] += springs.stiffness[static_cast<Eigen::Index>(i)];
+      }
+  };
+  const auto reducedGradient = [&](const Eigen::Matrix3Xd& x, Eigen::VectorXd& reduced) {
+    const Eigen::VectorXd full = totalGradient(x);
+    reduced.resize(static_cast<Eigen::Index>(linear.freeDofs.size()));
+    for (std::size_t r = 0; r < linear.freeDofs.size(); ++r) reduced[static_cast<Eigen::Index>(r)] = full[linear.freeDofs[r]];
+  };
+
+  double energy = totalEnergy(positions);
   if (!std::isfinite(energy))
     throw InvalidInputError("QuasiStaticSolver: the initial positions give a non-finite energy (extreme deformation)");
   Eigen::VectorXd g;
-  fem_.assembleReduced(positions, map, true, HessianKind::Projected, linear.H, &g);
+  assemble(HessianKind::Projected, linear.H);
+  reducedGradient(positions, g);
   result.initialForceNorm = g.norm();
   double absolute = settings_.absoluteForceTolerance;
   if (absolute < 0.0) {
@@ -193,7 +217,7 @@ SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const Dirichle
     if (!factored) {
       if (!hessianCurrent) {
         const Clock::time_point assembly = Clock::now();
-        fem_.assembleReduced(positions, map, true, HessianKind::Projected, linear.H, nullptr);
+        assemble(HessianKind::Projected, linear.H);
         record.assemblySeconds += secondsSince(assembly);
         hessianCurrent = true;
       }
@@ -207,7 +231,7 @@ SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const Dirichle
       // the force is small; when it is indefinite, fall back to the projection below.
       if (tryExact && forceNorm <= exactBelow) {
         if (linear.Hexact.rows() != linear.H.rows()) linear.Hexact = linear.H;
-        fem_.assembleReduced(positions, map, true, HessianKind::Exact, linear.Hexact, nullptr);
+        assemble(HessianKind::Exact, linear.Hexact);
         ++result.factorizations;
         if (linear.factorize(linear.Hexact, 0.0)) {
           direction = linear.solve(-g);
@@ -244,7 +268,7 @@ SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const Dirichle
     for (int step = 0; step < settings_.maxLineSearchSteps && alpha * std::abs(slope) > noise; ++step, alpha *= 0.5) {
       trial = positions;
       applyStep(trial, direction, alpha);
-      trialEnergy = fem_.energy(trial);
+      trialEnergy = totalEnergy(trial);
       record.lineSearchSteps = step;
       if (trialEnergy <= energy + settings_.armijo * alpha * slope) {
         accepted = true;
@@ -256,9 +280,9 @@ SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const Dirichle
       // Newton step if it does not raise E beyond that round-off and it reduces the force norm.
       trial = positions;
       applyStep(trial, direction, 1.0);
-      trialEnergy = fem_.energy(trial);
+      trialEnergy = totalEnergy(trial);
       if (trialEnergy <= energy + noise) {
-        const Eigen::VectorXd full = fem_.gradient(trial);
+        const Eigen::VectorXd full = totalGradient(trial);
         double norm2 = 0.0;
         for (int d : linear.freeDofs) norm2 += full[d] * full[d];
         if (std::sqrt(norm2) < forceNorm) {
@@ -279,8 +303,7 @@ SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const Dirichle
     positions.swap(trial);
     energy = trialEnergy;
     phase = Clock::now();
-    const Eigen::VectorXd full = fem_.gradient(positions);
-    for (std::size_t r = 0; r < linear.freeDofs.size(); ++r) g[static_cast<Eigen::Index>(r)] = full[linear.freeDofs[r]];
+    reducedGradient(positions, g);
     hessianCurrent = false;
     record.assemblySeconds += secondsSince(phase);
     const double previousForceNorm = forceNorm;

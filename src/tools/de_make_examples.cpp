@@ -34,12 +34,16 @@ int main(int argc, char** argv) {
   app.add_option("--coarse-cells", coarseCells, "coarse slab cells x y bulk-z (+1 skin layer)")->expected(3);
   app.add_option("--fine-cells", fineCells, "fine slab cells x y bulk-z (+2 skin layers)")->expected(3);
   app.add_option("--tool-radius", toolRadius, "tool footprint radius (m)");
+  std::string toolModel = "penalty";
+  app.add_option("--tool-model", toolModel, "penalty (smooth footprint springs) or dirichlet (vertices under the tip)")
+      ->check(CLI::IsMember({"penalty", "dirichlet"}));
   CLI11_PARSE(app, argc, argv);
   try {
     const std::vector<acquisition::PlanEntry> plan = planPath.empty() ? acquisition::defaultSlabPlan() : acquisition::readPlan(planPath);
     acquisition::SlabAcquisitionOptions options;
     options.stampResolution = resolution;
     options.toolRadius = toolRadius;
+    options.toolModel = toolModel == "penalty" ? acquisition::ToolModel::Penalty : acquisition::ToolModel::Dirichlet;
     options.coarse.cells = Eigen::Vector3i(coarseCells[0], coarseCells[1], coarseCells[2]);
     options.fine.cells = Eigen::Vector3i(fineCells[0], fineCells[1], fineCells[2]);
     std::cerr << "building coarse and fine slabs, embedding and site sampling...\n";

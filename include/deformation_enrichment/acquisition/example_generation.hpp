@@ -38,6 +38,11 @@ std::vector<PlanEntry> defaultSlabPlan();
 /// Held-out interactions between those of the default plan (for de_evaluate).
 std::vector<PlanEntry> heldOutSlabContacts();
 
+/// How the tool loads the tissue (scenes/tool_loading.hpp). Penalty is smooth in the tool position, so the
+/// fine-minus-coarse difference varies smoothly between acquisition contacts; Dirichlet grabs whole
+/// vertices and makes it jump with the mesh.
+enum class ToolModel { Dirichlet, Penalty };
+
 struct SlabAcquisitionOptions {
   /// Coarse: 10 x 10 cells, 2 bulk layers + 1 skin layer (1 cm cells). Fine: 24 x 24 cells, 4 bulk layers
   /// + 2 skin layers (4.2 mm cells). Both carry the same 1 mm skin so their rest surfaces coincide.
@@ -47,7 +52,11 @@ struct SlabAcquisitionOptions {
   scenes::Layering fine{Eigen::Vector3i(24, 24, 4), 0.001, 2};
   double bulkYoung = 1e4, bulkPoisson = 0.45;  ///< Pa; soft tissue
   double skinYoung = 1e6, skinPoisson = 0.3;   ///< Pa; stiff skin
-  double toolRadius = 0.005;   ///< footprint radius (m); the coarse footprint is widened to reach a vertex
+  double toolRadius = 0.005;   ///< footprint radius (m); a Dirichlet coarse footprint is widened to reach a vertex
+  ToolModel toolModel = ToolModel::Penalty;
+  /// Penalty stiffness per area (Pa/m): total tool stiffness 1e9 * pi (5 mm)^2 / 3 = 2.6e4 N/m, so the
+  /// skin slips ~0.04 mm under a 1 N tool force.
+  double toolStiffness = 1e9;
   int indentSteps = 2, dragSteps = 2;
   double relativeTolerance = 1e-7;
   int stampResolution = 64;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "deformation_enrichment/elasticity/anchor_springs.hpp"
 #include "deformation_enrichment/elasticity/tet_fem.hpp"
 
 namespace deformation_enrichment::elasticity {
@@ -93,9 +94,11 @@ public:
   /// by more than its round-off level (1e-14 mu_max V + 1e-12 |E|; steps below it are accepted when they
   /// reduce the force). On failure `positions` holds the last accepted iterate (finite, no higher energy
   /// than the start) and the result says why.
+  /// `springs` add penalty anchors to the energy (springs on constrained vertices have no effect).
   /// Throws InvalidInputError for wrong sizes, non-finite input, out-of-range or repeated constraint
-  /// vertices, or no free vertex.
-  SolveResult solve(Eigen::Matrix3Xd& positions, const DirichletConstraints& constraints);
+  /// vertices, invalid springs, or no free vertex.
+  SolveResult solve(Eigen::Matrix3Xd& positions, const DirichletConstraints& constraints,
+                    const AnchorSprings& springs = AnchorSprings());
 
   const SolverSettings& settings() const { return settings_; }
   SolverSettings& settings() { return settings_; }
