@@ -81,8 +81,11 @@ cv::Mat rasteriseStamp(const mesh::TriangleMesh& restPatch, const Eigen::Matrix3
 
 Eigen::Vector3d sampleStamp(const cv::Mat& stamp, double radius, double phi, double varphi) {
   // Continuous node coordinates; the square [-R, R]^2 maps onto [0, cols-1] x [0, rows-1].
-  const double x = (phi + radius) * (stamp.cols - 1) / (2.0 * radius);
-  const double y = (varphi + radius) * (stamp.rows - 1) / (2.0 * radius);
+  double x = (phi + radius) * (stamp.cols - 1) / (2.0 * radius);
+  double y = (varphi + radius) * (stamp.rows - 1) / (2.0 * radius);
+  // A point on the far edge (phi = R) can land a few ulps past the last node: it is on the edge, not out.
+  if (x > stamp.cols - 1 && x <= (stamp.cols - 1) * (1.0 + 1e-12)) x = stamp.cols - 1;
+  if (y > stamp.rows - 1 && y <= (stamp.rows - 1) * (1.0 + 1e-12)) y = stamp.rows - 1;
   if (!(x >= 0.0 && y >= 0.0 && x <= stamp.cols - 1 && y <= stamp.rows - 1)) return Eigen::Vector3d::Zero();
   const int k = std::min(static_cast<int>(x), stamp.cols - 2);
   const int j = std::min(static_cast<int>(y), stamp.rows - 2);

@@ -1,14 +1,16 @@
-// de_evaluate: held-out accuracy of the enrichment on the slab. For each contact line it runs the coarse
-// and the fine simulation (ground truth), enriches the coarse state (carried onto the fine surface by
-// the embedding) with the ContactEnricher and the example set, and prints one JSON object: RMS errors
-// against the fine solution over the fine surface vertices within the stamp radius of the contact,
-// per-contact details, maxima and the enrichment's compute time per frame.
+// de_evaluate: held-out accuracy of the enrichment on the slab. It runs the coarse and the fine
+// simulation (ground truth) of each held-out contact once, enriches the coarse state with the example set
+// and prints one JSON object: RMS errors against the fine solution over the fine surface vertices within
+// the stamp radius, per-contact details, maxima and compute time per frame. With --curves it also scores
+// run-time variants on the same solves: error vs number of examples (paper 000 Fig. 7) and run time vs
+// error over stamp resolution and Hermite orders (plot them with scripts/plot_evaluation).
 #include <CLI/CLI.hpp>
-#include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "deformation_enrichment/acquisition/example_generation.hpp"
+#include "deformation_enrichment/acquisition/held_out_evaluation.hpp"
+#include "deformation_enrichment/enrichment/example_set_reduction.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/examples/example_set_io.hpp"
 
@@ -16,90 +18,134 @@ using namespace deformation_enrichment;
 using nlohmann::json;
 
 namespace {
+
 json vec(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+json summary(const acquisition::HeldOutScore& s) {
+  return {{"ratio", s.ratio()}, {"enriched_rms", s.enrichedRms}, {"coarse_rms", s.coarseRms},
+          {"seconds_per_frame", s.secondsPerFrame}};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"Held-out error of coarse vs enriched surfaces against the fine simulation"};
   std::string sceneName = "slab", setPath, contactsPath;
-  bool asJson = false, noFit = false, magnitude = false;
-  double gain = 1.0, rimBand = 0.2, sigmaRho = 0.0, sigmaU = 0.0;
+  bool asJson = false, noFit = false, correlationOnly = false, curves = false;
+  const enrichment::ContactEnricherOptions defaults = acquisition::SlabAcquisitionOptions::defaultEnricherOptions();
+  double gain = 1.0, rimBand = defaults.rimBand, sigmaRho = 0.0, sigmaU = 0.0;
+  int repetitions = 5;
   app.add_option("--scene", sceneName, "scene (slab)")->check(CLI::IsMember({"slab"}));
-  app.add_option("--examples", setPath, "example set directory (de_make_examples)")->required();
+  app.add_option("--examples", setPath, "example set directory, or 'default' (cached; acquired on first use)")->required();
   app.add_option("--contacts", contactsPath, "CSV x,y,z,depth,dx,dy,dz per held-out interaction (default: built-in)");
   app.add_option("--gain", gain, "stamp gain");
   app.add_option("--rim-band", rimBand, "StampMapper rim band in [0, 1)");
-  app.add_flag("--magnitude-aware", magnitude, "scale each example stamp by |mu| / |mu[i]|");
+  app.add_flag("--correlation-only", correlationOnly, "the paper's pure correlation (no |mu| / |mu[i]| stamp scaling)");
   app.add_option("--sigma-rho", sigmaRho, "fixed kernel width sigma_rho (with --sigma-u: no leave-one-out fit)");
   app.add_option("--sigma-u", sigmaU, "fixed kernel width sigma_u");
   app.add_flag("--no-fit", noFit, "keep default kernel widths instead of the leave-one-out fit");
+  app.add_flag("--curves", curves, "also score example count, stamp resolution and Hermite order variants");
+  app.add_option("--repetitions", repetitions, "enrichments per contact for the median compute time")->check(CLI::PositiveNumber);
   app.add_flag("--json", asJson, "print JSON (always on; kept for the documented command line)");
   CLI11_PARSE(app, argc, argv);
   try {
     const auto contacts = contactsPath.empty() ? acquisition::heldOutSlabContacts() : acquisition::readPlan(contactsPath);
+    if (setPath == "default") {
+      setPath = acquisition::defaultExampleSetDirectory(sceneName);
+      if (!std::filesystem::exists(std::filesystem::path(setPath) / examples::kManifestFile)) {
+        std::cerr << "acquiring the default " << sceneName << " example set into " << setPath << " (once)\n";
+        acquisition::SlabAcquisition(acquisition::SlabAcquisitionOptions()).acquireSet(acquisition::defaultSlabPlan(), setPath, &std::cerr);
+      }
+    }
     const examples::ExampleSet set = examples::loadExampleSet(setPath);
     acquisition::SlabAcquisitionOptions options;
     acquisition::applyResolutionMetadata(set.metadata.material, options);  // the slabs and h the set was made with
     options.enricher.stampGain = gain;
     options.enricher.rimBand = rimBand;
-    options.enricher.magnitudeAware = magnitude;
+    options.enricher.magnitudeAware = !correlationOnly;
     acquisition::SlabAcquisition acq(options);
     enrichment::ExampleBlenderOptions blenderOptions;
-    blenderOptions.fitWidths = !noFit && !(sigmaRho > 0.0 && sigmaU > 0.0) && set.examples.size() >= 2;
+    blenderOptions.fitWidths = !noFit && !(sigmaRho > 0.0 && sigmaU > 0.0);
     if (sigmaRho > 0.0 && sigmaU > 0.0) blenderOptions.widths = enrichment::KernelWidths{sigmaRho, sigmaU};
-    acq.enricher().setExamples(set, blenderOptions);
-    const auto* blender = acq.enricher().blender();
-    const Eigen::Matrix3Xd& rest = acq.fineSurface().vertices;
-    const double R = options.enricher.stampRadius;
+    // Leave-one-out needs at least two examples to leave one out.
+    const auto blenderFor = [&](const examples::ExampleSet& s) {
+      enrichment::ExampleBlenderOptions o = blenderOptions;
+      o.fitWidths = o.fitWidths && s.examples.size() >= 2;
+      return o;
+    };
+    enrichment::ContactEnricher& enricher = acq.enricher();
+    enricher.setExamples(set, blenderFor(set));
+    const enrichment::KernelWidths widths = enricher.blender()->widths();
+
+    const std::vector<acquisition::HeldOutCase> cases = acquisition::simulateHeldOut(acq, contacts, [&](std::size_t i) {
+      std::cerr << "[" << i + 1 << "/" << contacts.size() << "] simulating coarse and fine...\n";
+    });
+    const acquisition::HeldOutScore score = acquisition::scoreHeldOut(enricher, cases, repetitions);
 
     json perContact = json::array();
-    double coarseSq = 0.0, enrichedSq = 0.0, maxCoarse = 0.0, maxEnriched = 0.0, computeSeconds = 0.0;
-    long count = 0;
-    for (std::size_t i = 0; i < contacts.size(); ++i) {
-      const auto& c = contacts[i];
-      std::cerr << "[" << i + 1 << "/" << contacts.size() << "] simulating coarse and fine...\n";
-      const acquisition::InteractionResult r = acq.simulate(c);
-      enrichment::EnrichmentResult result;
-      acq.enricher().enrich(r.coarseOnFine, {acquisition::SlabAcquisition::contactOf(c)}, result);
-      Eigen::Matrix3Xd enriched = r.coarseOnFine;
-      acq.enricher().apply(result, enriched);
-      double cSq = 0.0, eSq = 0.0, cMax = 0.0, eMax = 0.0;
-      long n = 0;
-      for (Eigen::Index v = 0; v < rest.cols(); ++v) {
-        if ((rest.col(v) - c.point).norm() >= R) continue;
-        const double ce = (r.coarseOnFine.col(v) - r.fine.col(v)).norm(), ee = (enriched.col(v) - r.fine.col(v)).norm();
-        cSq += ce * ce;
-        eSq += ee * ee;
-        cMax = std::max(cMax, ce);
-        eMax = std::max(eMax, ee);
-        ++n;
-      }
-      coarseSq += cSq;
-      enrichedSq += eSq;
-      count += n;
-      maxCoarse = std::max(maxCoarse, cMax);
-      maxEnriched = std::max(maxEnriched, eMax);
-      computeSeconds += result.timings.totalSeconds;
-      const auto& outcome = result.contacts.at(0);
-      std::vector<double> weights(outcome.weights.data(), outcome.weights.data() + outcome.weights.size());
-      perContact.push_back({{"point", vec(c.point)}, {"depth", c.depth}, {"drag", vec(c.drag)}, {"vertices", n},
-                            {"coarse_rms", n ? std::sqrt(cSq / n) : 0.0}, {"enriched_rms", n ? std::sqrt(eSq / n) : 0.0},
-                            {"coarse_max", cMax}, {"enriched_max", eMax}, {"confidence", outcome.confidence},
-                            {"weights", weights}, {"frame_rule", descriptors::toString(outcome.description.frameRule)},
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+      const acquisition::PlanEntry& c = cases[i].entry;
+      const acquisition::InteractionResult& r = cases[i].result;
+      const acquisition::ContactScore& s = score.contacts[i];
+      const Eigen::VectorXd& w = s.outcome.weights;
+      perContact.push_back({{"point", vec(c.point)}, {"depth", c.depth}, {"drag", vec(c.drag)}, {"vertices", s.vertices},
+                            {"coarse_rms", s.coarseRms}, {"enriched_rms", s.enrichedRms}, {"coarse_max", s.coarseMax},
+                            {"enriched_max", s.enrichedMax}, {"confidence", s.outcome.confidence},
+                            {"weights", std::vector<double>(w.data(), w.data() + w.size())},
+                            {"frame_rule", descriptors::toString(s.outcome.description.frameRule)},
                             {"converged", r.converged}, {"coarse_seconds", r.coarseSeconds}, {"fine_seconds", r.fineSeconds},
-                            {"enrich_seconds", result.timings.totalSeconds},
-                            {"descriptor_seconds", result.timings.descriptorSeconds},
-                            {"blend_seconds", result.timings.blendSeconds}, {"map_seconds", result.timings.mapSeconds}});
+                            {"enrich_seconds", s.timings.totalSeconds}, {"descriptor_seconds", s.timings.descriptorSeconds},
+                            {"blend_seconds", s.timings.blendSeconds}, {"map_seconds", s.timings.mapSeconds}});
     }
-    const double coarseRms = count ? std::sqrt(coarseSq / count) : 0.0, enrichedRms = count ? std::sqrt(enrichedSq / count) : 0.0;
-    json out = {{"scene", sceneName}, {"examples", set.examples.size()}, {"contacts", contacts.size()},
-                {"stamp_radius", R}, {"magnitude_aware", magnitude}, {"rim_band", rimBand}, {"surface_vertices", rest.cols()},
-                {"sigma_rho", blender->widths().sigmaRho}, {"sigma_u", blender->widths().sigmaU},
-                {"coarse_rms", coarseRms}, {"enriched_rms", enrichedRms},
-                {"ratio", coarseRms > 0.0 ? enrichedRms / coarseRms : 0.0},
-                {"coarse_max", maxCoarse}, {"enriched_max", maxEnriched},
-                {"compute_seconds_per_frame", contacts.empty() ? 0.0 : computeSeconds / contacts.size()},
-                {"per_contact", perContact}};
+    json out = {{"scene", sceneName}, {"examples", set.examples.size()}, {"example_set", setPath},
+                {"contacts", contacts.size()}, {"stamp_radius", options.enricher.stampRadius},
+                {"magnitude_aware", !correlationOnly}, {"rim_band", rimBand}, {"gain", gain},
+                {"surface_vertices", acq.fineSurface().vertices.cols()},
+                {"sigma_rho", widths.sigmaRho}, {"sigma_u", widths.sigmaU},
+                {"coarse_rms", score.coarseRms}, {"enriched_rms", score.enrichedRms}, {"ratio", score.ratio()},
+                {"coarse_max", score.coarseMax}, {"enriched_max", score.enrichedMax},
+                {"compute_seconds_per_frame", score.secondsPerFrame}, {"per_contact", perContact}};
+
+    if (curves) {
+      json byCount = json::array(), byResolution = json::array(), byOrder = json::array();
+      for (std::size_t k = 1; k <= set.examples.size(); ++k) {
+        examples::ExampleSet first = set;
+        first.examples.resize(k);
+        enricher.setExamples(first, blenderFor(first));
+        json entry = summary(acquisition::scoreHeldOut(enricher, cases, repetitions));
+        entry["examples"] = k;
+        byCount.push_back(entry);
+        std::cerr << "examples " << k << ": ratio " << entry["ratio"] << "\n";
+      }
+      const int native = set.examples.front().stamp.rows;
+      for (int n : {8, 16, 32, 64}) {
+        if (n > native) break;
+        const examples::ExampleSet reduced = enrichment::withStampResolution(set, n);
+        enricher.setExamples(reduced, blenderFor(reduced));
+        json entry = summary(acquisition::scoreHeldOut(enricher, cases, repetitions));
+        entry["stamp_resolution"] = n;
+        byResolution.push_back(entry);
+        std::cerr << "stamp resolution " << n << ": ratio " << entry["ratio"] << "\n";
+      }
+      const int siteOrders = set.examples.front().rho.lastOrder(), deformationOrders = set.examples.front().mu.lastOrder();
+      for (int m = 1; m <= deformationOrders; ++m)
+        for (int n = 1; n <= siteOrders; ++n) {  // rho_1 defines the stamping frame
+          enrichment::ContactEnricherOptions orderOptions = options.enricher;
+          orderOptions.descriptors.siteOrder = n;
+          orderOptions.descriptors.deformationOrder = m;
+          enrichment::ContactEnricher variant(acq.fineSurface(), orderOptions);
+          const examples::ExampleSet reduced = enrichment::withHermiteOrders(set, n, m);
+          variant.setExamples(reduced, blenderFor(reduced));
+          json entry = summary(acquisition::scoreHeldOut(variant, cases, repetitions));
+          entry["site_order"] = n;
+          entry["deformation_order"] = m;
+          byOrder.push_back(entry);
+          std::cerr << "orders rho " << n << ", mu " << m << ": ratio " << entry["ratio"] << "\n";
+        }
+      out["examples_curve"] = byCount;
+      out["stamp_resolution_curve"] = byResolution;
+      out["hermite_order_curve"] = byOrder;
+    }
     std::cout << out.dump(2) << std::endl;
   } catch (const std::exception& e) {
     std::cerr << "de_evaluate: " << e.what() << "\n";

@@ -22,12 +22,15 @@ struct ContactEnricherOptions {
   descriptors::DescriptorOptions descriptors;  ///< window scale h, orders N, frame tolerance, MLS
   double stampRadius = 0.02;    ///< R of the stamps this surface expects (m); examples must match
   double sampleSpacing = 0.0;   ///< interior sampling for rho (m); 0 = h / 4
-  double rimBand = 0.2;         ///< StampMapper rim band
+  /// StampMapper rim band. Measured on held-out slab contacts (R = 3 cm): enriched / coarse RMS 0.34 with
+  /// no band (but a seam at the rim), 0.38 with 0.1, 0.42 with 0.2: the band fades real detail.
+  double rimBand = 0.1;
   double stampGain = 1.0;       ///< scales every blended stamp (run-time knob)
   /// Magnitude-aware stamps (issue 5 (b)): eq. (16) becomes Psi = sum_i w~_i (|mu| / |mu[i]|) Psi[i], so an
   /// example's detail scales with how strongly the current contact deforms compared with the example
-  /// (eq. 14 compares directions only). false = the paper's pure correlation.
-  bool magnitudeAware = false;
+  /// (eq. 14 compares directions only). false = the paper's pure correlation. Measured on held-out slab
+  /// contacts: enriched / coarse RMS 0.49 with, 0.53 without (R = 2 cm, band 0.2); 0.34 vs 0.45 (band 0).
+  bool magnitudeAware = true;
 };
 
 /// One tool contact. `point` is a rest-state position when `restState`, otherwise a current-state position
