@@ -45,13 +45,13 @@ struct Body {
   double cellSize = 0.0;  // largest lateral cell size (m)
 };
 
-Body makeBody(const scenes::Layering& layering, const SlabAcquisitionOptions& o) {
+Body makeBody(const scenes::Layering& layering, double skinYoung, const SlabAcquisitionOptions& o) {
   Body body;
   scenes::SlabOptions slab;
   slab.layering = layering;
   body.scene = scenes::makeSlab(slab);
   const auto bulk = elasticity::lameFromYoungPoisson(o.bulkYoung, o.bulkPoisson);
-  const auto skin = elasticity::lameFromYoungPoisson(o.skinYoung, o.skinPoisson);
+  const auto skin = elasticity::lameFromYoungPoisson(skinYoung, o.skinPoisson);
   body.fem = std::make_unique<elasticity::TetFem>(
       body.scene.mesh,
       std::vector<elasticity::StableNeoHookean>{elasticity::StableNeoHookean(bulk.mu, bulk.lambda),
@@ -170,8 +170,13 @@ void applyResolutionMetadata(const std::map<std::string, double>& material, Slab
   options.toolModel = model != material.end() && model->second == 1.0 ? ToolModel::Penalty : ToolModel::Dirichlet;
   const auto stiffness = material.find("tool_stiffness_pa_per_m");
   if (stiffness != material.end()) options.toolStiffness = stiffness->second;
+  const auto coarseSkin = material.find("coarse_skin_young_pa");
+  if (coarseSkin != material.end()) options.coarseSkinYoung = coarseSkin->second;
   const auto radius = material.find("stamp_radius_m");
   if (radius != material.end()) options.enricher.stampRadius = radius->second;
+  const auto average = material.find("average_quadrature");
+  options.enricher.descriptors.window.quadrature =
+      average != material.end() && average->second == 1.0 ? descriptors::Quadrature::Average : descriptors::Quadrature::Volume;
   const auto h = material.find("window_scale_m");
   if (h != material.end()) options.enricher.descriptors.window.scale = h->second;
 }
@@ -208,8 +213,8 @@ struct SlabAcquisition::Impl {
 };
 
 SlabAcquisition::SlabAcquisition(const SlabAcquisitionOptions& options) : options_(options), impl_(std::make_unique<Impl>()) {
-  impl_->coarse = makeBody(options.coarse, options);
-  impl_->fine = makeBody(options.fine, options);
+  impl_->coarse = makeBody(options.coarse, options.coarseSkinYoung > 0.0 ? options.coarseSkinYoung : options.skinYoung, options);
+  impl_->fine = makeBody(options.fine, options.skinYoung, options);
   impl_->fineSurface = mesh::extractSurface(impl_->fine.scene.mesh);
   impl_->fineSurfaceRest = impl_->fineSurface.surface.vertices;
   // Both slabs fill the same box, so every fine surface vertex lies in (or on) the coarse mesh.
@@ -225,11 +230,13 @@ enrichment::ContactEnricher& SlabAcquisition::enricher() { return *impl_->enrich
 std::map<std::string, double> SlabAcquisition::materialMetadata() const {
   return {{"bulk_young_pa", options_.bulkYoung}, {"bulk_poisson", options_.bulkPoisson},
           {"skin_young_pa", options_.skinYoung}, {"skin_poisson", options_.skinPoisson},
+          {"coarse_skin_young_pa", options_.coarseSkinYoung > 0.0 ? options_.coarseSkinYoung : options_.skinYoung},
           {"skin_thickness_m", options_.fine.skinThickness}, {"tool_radius_m", options_.toolRadius},
           {"tool_model", options_.toolModel == ToolModel::Penalty ? 1.0 : 0.0},
           {"tool_stiffness_pa_per_m", options_.toolStiffness},
           {"window_scale_m", options_.enricher.descriptors.window.scale},
           {"stamp_radius_m", options_.enricher.stampRadius},
+          {"average_quadrature", options_.enricher.descriptors.window.quadrature == descriptors::Quadrature::Average ? 1.0 : 0.0},
           {"coarse_cells_x", options_.coarse.cells.x()}, {"coarse_cells_y", options_.coarse.cells.y()},
           {"coarse_cells_z", options_.coarse.cells.z()}, {"fine_cells_x", options_.fine.cells.x()},
           {"fine_cells_y", options_.fine.cells.y()}, {"fine_cells_z", options_.fine.cells.z()},

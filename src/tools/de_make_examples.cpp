@@ -25,6 +25,13 @@ int main(int argc, char** argv) {
   app.add_option("--tool-radius", toolRadius, "tool footprint radius (m)");
   double stampRadius = acquisition::SlabAcquisitionOptions().enricher.stampRadius;
   app.add_option("--stamp-radius", stampRadius, "stamp radius R (m)")->check(CLI::PositiveNumber);
+  double coarseSkinYoung = acquisition::SlabAcquisitionOptions().coarseSkinYoung;
+  app.add_option("--coarse-skin-young", coarseSkinYoung, "skin Young's modulus of the coarse model (Pa; 0 = the fine one's)");
+  double toolStiffness = acquisition::SlabAcquisitionOptions().toolStiffness;
+  app.add_option("--tool-stiffness", toolStiffness, "penalty tool stiffness per area (Pa/m)")->check(CLI::PositiveNumber);
+  std::string quadrature = "volume";
+  app.add_option("--quadrature", quadrature, "descriptor quadrature: volume (lumped weights) or average (paper eq. 8)")
+      ->check(CLI::IsMember({"volume", "average"}));
   std::string toolModel = "penalty";
   app.add_option("--tool-model", toolModel, "penalty (smooth footprint springs) or dirichlet (vertices under the tip)")
       ->check(CLI::IsMember({"penalty", "dirichlet"}));
@@ -34,6 +41,9 @@ int main(int argc, char** argv) {
     acquisition::SlabAcquisitionOptions options;
     options.stampResolution = resolution;
     options.toolRadius = toolRadius;
+    options.coarseSkinYoung = coarseSkinYoung;
+    options.toolStiffness = toolStiffness;
+    options.enricher.descriptors.window.quadrature = descriptors::parseQuadrature(quadrature);
     options.enricher.stampRadius = stampRadius;
     options.toolModel = toolModel == "penalty" ? acquisition::ToolModel::Penalty : acquisition::ToolModel::Dirichlet;
     options.coarse.cells = Eigen::Vector3i(coarseCells[0], coarseCells[1], coarseCells[2]);

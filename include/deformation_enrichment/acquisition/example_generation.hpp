@@ -53,6 +53,8 @@ struct SlabAcquisitionOptions {
   scenes::Layering fine{Eigen::Vector3i(24, 24, 4), 0.001, 2};
   double bulkYoung = 1e4, bulkPoisson = 0.45;  ///< Pa; soft tissue
   double skinYoung = 1e6, skinPoisson = 0.3;   ///< Pa; stiff skin
+  /// Skin Young's modulus of the coarse model (Pa); 0 = skinYoung.
+  double coarseSkinYoung = 0.0;
   double toolRadius = 0.005;   ///< footprint radius (m); a Dirichlet coarse footprint is widened to reach a vertex
   ToolModel toolModel = ToolModel::Penalty;
   /// Penalty stiffness per area (Pa/m): total tool stiffness 1e9 * pi (5 mm)^2 / 3 = 2.6e4 N/m, so the
