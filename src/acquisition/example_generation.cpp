@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <sstream>
 
@@ -62,9 +63,11 @@ Body makeBody(const scenes::Layering& layering, double skinYoung, const SlabAcqu
   return body;
 }
 
-// Quasi-static path: indent along -z (the slab top's inward normal), then drag. Returns seconds.
-double solvePath(const Body& body, const PlanEntry& e, const SlabAcquisitionOptions& o, Eigen::Matrix3Xd& positions,
-                 bool& converged, std::string& message) {
+// Quasi-static path: indent along -z (the slab top's inward normal) in `indentSteps`, then drag in
+// `dragSteps`; `onStep` (optional) sees the positions after every step. Returns seconds.
+double solvePath(const Body& body, const PlanEntry& e, const SlabAcquisitionOptions& o, int indentSteps, int dragSteps,
+                 Eigen::Matrix3Xd& positions, bool& converged, std::string& message,
+                 const std::function<void(const Eigen::Matrix3Xd&)>& onStep = {}) {
   const auto start = Clock::now();
   // Dirichlet: a coarse grid may have no vertex within the tool radius, so the footprint widens to reach
   // one (~0.71 cell). Penalty: the footprint integral loads whichever vertices' hat functions it covers.
@@ -78,14 +81,14 @@ double solvePath(const Body& body, const PlanEntry& e, const SlabAcquisitionOpti
     springRest = springs.targets;
   }
   const double dragDistance = e.drag.norm();
-  const int dragSteps = dragDistance > 0.0 ? o.dragSteps : 0;
+  if (dragDistance == 0.0) dragSteps = 0;
   const Eigen::Vector3d dragDirection = dragDistance > 0.0 ? Eigen::Vector3d(e.drag / dragDistance) : Eigen::Vector3d::UnitX();
   elasticity::SolverSettings settings;
   settings.relativeForceTolerance = o.relativeTolerance;
   elasticity::QuasiStaticSolver solver(*body.fem, settings);
   positions = body.scene.mesh.vertices;
-  for (int step = 1; step <= o.indentSteps + dragSteps; ++step) {
-    const Eigen::Vector3d u = scenes::toolDisplacement(step, o.indentSteps, dragSteps, -Eigen::Vector3d::UnitZ(), e.depth,
+  for (int step = 1; step <= indentSteps + dragSteps; ++step) {
+    const Eigen::Vector3d u = scenes::toolDisplacement(step, indentSteps, dragSteps, -Eigen::Vector3d::UnitZ(), e.depth,
                                                        dragDirection, dragDistance);
     elasticity::SolveResult r;
     if (o.toolModel == ToolModel::Dirichlet) {
@@ -98,6 +101,7 @@ double solvePath(const Body& body, const PlanEntry& e, const SlabAcquisitionOpti
       converged = false;
       message += "step " + std::to_string(step) + ": " + r.message + "; ";
     }
+    if (onStep) onStep(positions);
   }
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
@@ -177,6 +181,8 @@ void applyResolutionMetadata(const std::map<std::string, double>& material, Slab
   const auto average = material.find("average_quadrature");
   options.enricher.descriptors.window.quadrature =
       average != material.end() && average->second == 1.0 ? descriptors::Quadrature::Average : descriptors::Quadrature::Volume;
+  const auto spacing = material.find("site_sample_spacing_m");
+  if (spacing != material.end()) options.enricher.sampleSpacing = spacing->second;
   const auto h = material.find("window_scale_m");
   if (h != material.end()) options.enricher.descriptors.window.scale = h->second;
 }
@@ -235,6 +241,7 @@ std::map<std::string, double> SlabAcquisition::materialMetadata() const {
           {"tool_model", options_.toolModel == ToolModel::Penalty ? 1.0 : 0.0},
           {"tool_stiffness_pa_per_m", options_.toolStiffness},
           {"window_scale_m", options_.enricher.descriptors.window.scale},
+          {"site_sample_spacing_m", options_.enricher.sampleSpacing},
           {"stamp_radius_m", options_.enricher.stampRadius},
           {"average_quadrature", options_.enricher.descriptors.window.quadrature == descriptors::Quadrature::Average ? 1.0 : 0.0},
           {"coarse_cells_x", options_.coarse.cells.x()}, {"coarse_cells_y", options_.coarse.cells.y()},
@@ -254,14 +261,33 @@ InteractionResult SlabAcquisition::simulate(const PlanEntry& entry) const {
     throw InvalidInputError("acquisition: non-finite interaction or negative depth");
   InteractionResult r;
   Eigen::Matrix3Xd coarse, fine;
-  r.coarseSeconds = solvePath(impl_->coarse, entry, options_, coarse, r.converged, r.message);
-  r.fineSeconds = solvePath(impl_->fine, entry, options_, fine, r.converged, r.message);
-  // The coarse displacement carried onto the fine surface (exact for the coarse tets' affine fields).
-  r.coarseOnFine = impl_->fineSurfaceRest +
-                   mesh::interpolate(impl_->embedding, impl_->coarse.scene.mesh, coarse - impl_->coarse.scene.mesh.vertices);
+  r.coarseSeconds = solvePath(impl_->coarse, entry, options_, options_.indentSteps, options_.dragSteps, coarse, r.converged, r.message);
+  r.fineSeconds = solvePath(impl_->fine, entry, options_, options_.indentSteps, options_.dragSteps, fine, r.converged, r.message);
+  r.coarseOnFine = coarseOnFineSurface(coarse);
   r.fine.resize(3, impl_->fineSurfaceRest.cols());
   for (Eigen::Index v = 0; v < r.fine.cols(); ++v) r.fine.col(v) = fine.col(impl_->fineSurface.surfaceToVolume[static_cast<std::size_t>(v)]);
   return r;
+}
+
+Eigen::Matrix3Xd SlabAcquisition::coarseOnFineSurface(const Eigen::Matrix3Xd& coarse) const {
+  // The coarse displacement carried onto the fine surface (exact for the coarse tets' affine fields).
+  return impl_->fineSurfaceRest +
+         mesh::interpolate(impl_->embedding, impl_->coarse.scene.mesh, coarse - impl_->coarse.scene.mesh.vertices);
+}
+
+std::vector<Eigen::Matrix3Xd> SlabAcquisition::coarsePath(const PlanEntry& entry, int indentSteps, int dragSteps,
+                                                          std::string* message) const {
+  if (!entry.point.allFinite() || !entry.drag.allFinite() || !std::isfinite(entry.depth) || entry.depth < 0.0)
+    throw InvalidInputError("acquisition: non-finite interaction or negative depth");
+  if (indentSteps < 1 || dragSteps < 0) throw InvalidInputError("coarsePath: needs indentSteps >= 1 and dragSteps >= 0");
+  std::vector<Eigen::Matrix3Xd> path{impl_->fineSurfaceRest};
+  Eigen::Matrix3Xd coarse;
+  bool converged = true;
+  std::string log;
+  solvePath(impl_->coarse, entry, options_, indentSteps, dragSteps, coarse, converged, log,
+            [&](const Eigen::Matrix3Xd& positions) { path.push_back(coarseOnFineSurface(positions)); });
+  if (message) *message = log;
+  return path;
 }
 
 examples::Example SlabAcquisition::makeExample(const PlanEntry& entry, const InteractionResult& result) {

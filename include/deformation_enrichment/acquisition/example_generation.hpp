@@ -101,6 +101,12 @@ public:
   /// Coarse and fine solves of one interaction (throws InvalidInputError if the tool misses the top).
   InteractionResult simulate(const PlanEntry& entry) const;
 
+  /// The coarse quasi-static path of an interaction on the fine surface: the rest state, then the state
+  /// after each of `indentSteps` indentation and `dragSteps` drag steps (no drag steps without a drag).
+  /// Solver messages of unconverged steps go to `message`. For playing a coarse simulation (the demo).
+  std::vector<Eigen::Matrix3Xd> coarsePath(const PlanEntry& entry, int indentSteps, int dragSteps,
+                                           std::string* message = nullptr) const;
+
   /// The example of an interaction (descriptors from the coarse state, stamp from d = fine - coarse).
   examples::Example makeExample(const PlanEntry& entry, const InteractionResult& result);
 
@@ -113,6 +119,7 @@ public:
   examples::ExampleSet acquireSet(const std::vector<PlanEntry>& plan, const std::string& directory, std::ostream* log = nullptr);
 
 private:
+  Eigen::Matrix3Xd coarseOnFineSurface(const Eigen::Matrix3Xd& coarse) const;
   struct Impl;
   SlabAcquisitionOptions options_;
   std::unique_ptr<Impl> impl_;

@@ -23,7 +23,7 @@ EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
   errorThrottle_ = privateNh_.param("error_throttle", 1.0);
   toolContactDistance_ = privateNh_.param("tool_contact_distance", 0.003);
   markerOptions_.maxTriangles = privateNh_.param("marker_max_triangles", 50000);
-  markerOptions_.displacementScale = privateNh_.param("marker_displacement_scale", 0.002);
+  markerOptions_.displacementScale = privateNh_.param("marker_displacement_scale", 0.0015);
   segmentation_.scale = privateNh_.param("descriptor_scale", 0.005);
   segmentation_.sampleSpacing = privateNh_.param("segmentation_sample_spacing", 0.0);
   stampGain_ = privateNh_.param("stamp_gain", 1.0);
@@ -231,8 +231,12 @@ std::unique_ptr<enrichment::ContactEnricher> EnrichmentNode::makeEnricher(const 
                                                                           const examples::ExampleSet& set) const {
   enrichment::ContactEnricherOptions options;
   options.descriptors.window.scale = segmentation_.scale;
-  const auto h = set.metadata.material.find("window_scale_m");  // the scale the examples were described with
+  options.sampleSpacing = segmentation_.sampleSpacing;
+  // Describe contacts exactly as the examples were described: their window scale and interior sampling.
+  const auto h = set.metadata.material.find("window_scale_m");
   if (h != set.metadata.material.end()) options.descriptors.window.scale = h->second;
+  const auto spacing = set.metadata.material.find("site_sample_spacing_m");
+  if (spacing != set.metadata.material.end()) options.sampleSpacing = spacing->second;
   options.stampRadius = set.examples.front().stampRadius;
   options.stampGain = stampGain_;
   auto enricher = std::make_unique<enrichment::ContactEnricher>(rest, options);

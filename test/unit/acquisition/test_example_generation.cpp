@@ -134,3 +134,26 @@ TEST(ExampleGeneration, AcquiredSetResumesWithoutRecomputing) {
   EXPECT_EQ(again.str().find("already acquired"), std::string::npos);
   std::filesystem::remove_all(dir);
 }
+
+TEST(ExampleGeneration, CoarsePathEndsInTheSimulatedCoarseState) {
+  const auto o = tiny();
+  const acquisition::SlabAcquisition acq(o);
+  acquisition::PlanEntry e;
+  e.point = Eigen::Vector3d(0.004, 0.003, 0.02);
+  e.depth = 0.002;
+  e.drag = Eigen::Vector3d(0.0, 0.002, 0.0);
+  std::string message;
+  const auto path = acq.coarsePath(e, o.indentSteps, o.dragSteps, &message);
+  ASSERT_EQ(path.size(), static_cast<std::size_t>(1 + o.indentSteps + o.dragSteps));
+  EXPECT_TRUE(message.empty()) << message;
+  EXPECT_EQ(path.front(), acq.fineSurface().vertices);
+  EXPECT_LT((path.back() - acq.simulate(e).coarseOnFine).cwiseAbs().maxCoeff(), 1e-9);
+  // The surface under the tool goes down monotonically while indenting.
+  Eigen::Index under = 0;
+  (acq.fineSurface().vertices.colwise() - e.point).colwise().squaredNorm().minCoeff(&under);
+  for (int step = 1; step <= o.indentSteps; ++step)
+    EXPECT_LT(path[static_cast<std::size_t>(step)](2, under), path[static_cast<std::size_t>(step - 1)](2, under) - 1e-4);
+  e.drag.setZero();
+  EXPECT_EQ(acq.coarsePath(e, 3, 5).size(), 4u);  // no drag, no drag steps
+  EXPECT_THROW(acq.coarsePath(e, 0, 1), InvalidInputError);
+}
