@@ -1,0 +1,109 @@
+// Per-frame enrichment as the node runs it (issue 5 target: <= 1 ms compute for a 50k-vertex surface with 10
+// examples): ContactEnricher::enrich for one contact, i.e. the deformation descriptor (MLS F, polar, moments
+// up to order 2 of the current state in the window), the cached site descriptor, eq. 15 weights, RBF, eq. 16
+// blend of 32x32 stamps, mapping within R = 3 cm, plus s + e applied to a copy of the state
+// (Frame/Enrich), against only copying the state (Frame/Copy). The default slab settings: h = 6 mm,
+// magnitude-aware stamps, rim band 0.1.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <memory>
+
+#include "deformation_enrichment/acquisition/example_generation.hpp"
+#include "deformation_enrichment/enrichment/contact_enricher.hpp"
+#include "deformation_enrichment/mesh/grid_tet_mesh.hpp"
+#include "deformation_enrichment/mesh/tet_surface.hpp"
+#include "ratio_reporter.hpp"
+
+using namespace deformation_enrichment;
+
+namespace {
+
+// A smooth dent of `depth` under p (stands in for the coarse state; its shape only sets mu).
+Eigen::Matrix3Xd dented(const Eigen::Matrix3Xd& rest, const Eigen::Vector3d& p, double depth, const Eigen::Vector3d& drag) {
+  Eigen::Matrix3Xd x = rest;
+  for (Eigen::Index v = 0; v < rest.cols(); ++v) {
+    const double w = std::exp(-(rest.col(v) - p).squaredNorm() / (2 * 0.006 * 0.006)) * rest(2, v) / 0.02;
+    x.col(v) += w * (drag - depth * Eigen::Vector3d::UnitZ());
+  }
+  return x;
+}
+
+struct Scene {
+  std::unique_ptr<enrichment::ContactEnricher> enricher;
+  Eigen::Matrix3Xd current;
+  enrichment::Contact contact;
+};
+
+Scene& scene() {
+  static std::unique_ptr<Scene> s;
+  if (s) return *s;
+  s = std::make_unique<Scene>();
+  // 150 x 150 x 3 cells: 45 904 + side vertices, ~50k surface vertices.
+  const mesh::TetSurface slab = mesh::extractSurface(
+      mesh::gridTetMesh(Eigen::Vector3d(-0.05, -0.05, 0.0), Eigen::Vector3d(0.05, 0.05, 0.02), Eigen::Vector3i(150, 150, 3)));
+  enrichment::ContactEnricherOptions options = acquisition::SlabAcquisitionOptions::defaultEnricherOptions();
+  s->enricher = std::make_unique<enrichment::ContactEnricher>(slab.surface, options);
+  const Eigen::Matrix3Xd& rest = slab.surface.vertices;
+  examples::ExampleSet set;
+  for (int i = 0; i < 10; ++i) {
+    enrichment::Contact c;
+    c.point = Eigen::Vector3d(-0.02 + 0.004 * i, 0.01 * std::sin(i), 0.02);
+    const Eigen::Vector3d drag(0.0005 * (i % 3), 0.0005 * (i % 2), 0.0);
+    const enrichment::ContactDescription d = s->enricher->describe(dented(rest, c.point, 0.002 + 0.0002 * i, drag), c);
+    examples::Example e;
+    e.contact = d.p;
+    e.frame = d.B;
+    e.rho = d.rho;
+    e.mu = d.mu;
+    e.stampRadius = options.stampRadius;
+    e.stamp.create(32, 32, CV_32FC3);
+    cv::randn(e.stamp, cv::Scalar::all(0.0), cv::Scalar::all(1e-4));
+    set.examples.push_back(e);
+  }
+  s->enricher->setExamples(set);
+  s->contact.point = Eigen::Vector3d(0.003, -0.002, 0.02);
+  s->current = dented(rest, s->contact.point, 0.0025, Eigen::Vector3d(0.0004, 0.0, 0.0));
+  return *s;
+}
+
+void BM_FrameEnrich(benchmark::State& state) {
+  Scene& s = scene();
+  enrichment::EnrichmentResult result;
+  Eigen::Matrix3Xd enriched;
+  for (auto _ : state) {
+    s.enricher->enrich(s.current, {s.contact}, result);
+    enriched = s.current;
+    s.enricher->apply(result, enriched);  // eq. (1)
+    benchmark::DoNotOptimize(enriched.data());
+  }
+  state.counters["vertices"] = static_cast<double>(s.current.cols());
+  state.counters["touched"] = static_cast<double>(result.enrichment.vertices.size());
+  state.counters["confidence"] = result.contacts.at(0).confidence;
+  state.counters["descriptor_us"] = 1e6 * result.timings.descriptorSeconds;
+  state.counters["blend_us"] = 1e6 * result.timings.blendSeconds;
+  state.counters["map_us"] = 1e6 * result.timings.mapSeconds;
+}
+
+void BM_FrameCopy(benchmark::State& state) {
+  Scene& s = scene();
+  Eigen::Matrix3Xd enriched;
+  for (auto _ : state) {
+    enriched = s.current;
+    benchmark::DoNotOptimize(enriched.data());
+  }
+}
+
+}  // namespace
+
+BENCHMARK(BM_FrameEnrich)->Name("ContactEnricher/Enrich/50k_vertices")->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_FrameCopy)->Name("ContactEnricher/Copy/50k_vertices")->Unit(benchmark::kMicrosecond);
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  de_bench::RatioReporter reporter;
+  benchmark::RunSpecifiedBenchmarks(&reporter);
+  reporter.printRatios("Enrich", "Copy");
+  benchmark::Shutdown();
+  return 0;
+}
