@@ -35,6 +35,8 @@ int main(int argc, char** argv) {
   const enrichment::ContactEnricherOptions defaults = acquisition::SlabAcquisitionOptions::defaultEnricherOptions();
   double gain = 1.0, rimBand = defaults.rimBand, sigmaRho = 0.0, sigmaU = 0.0;
   int repetitions = 5;
+  double lambda = enrichment::RbfInterpolator::kDefaultRegularisation;
+  app.add_option("--lambda", lambda, "RBF regularisation lambda of (K^2 + lambda^2 I)^-1 K")->check(CLI::PositiveNumber);
   app.add_option("--scene", sceneName, "scene (slab)")->check(CLI::IsMember({"slab"}));
   app.add_option("--examples", setPath, "example set directory, or 'default' (cached; acquired on first use)")->required();
   app.add_option("--contacts", contactsPath, "CSV x,y,z,depth,dx,dy,dz per held-out interaction (default: built-in)");
@@ -66,6 +68,7 @@ int main(int argc, char** argv) {
     acquisition::SlabAcquisition acq(options);
     enrichment::ExampleBlenderOptions blenderOptions;
     blenderOptions.fitWidths = !noFit && !(sigmaRho > 0.0 && sigmaU > 0.0);
+    blenderOptions.lambda = lambda;
     if (sigmaRho > 0.0 && sigmaU > 0.0) blenderOptions.widths = enrichment::KernelWidths{sigmaRho, sigmaU};
     // Leave-one-out needs at least two examples to leave one out.
     const auto blenderFor = [&](const examples::ExampleSet& s) {
@@ -99,7 +102,7 @@ int main(int argc, char** argv) {
     }
     json out = {{"scene", sceneName}, {"examples", set.examples.size()}, {"example_set", setPath},
                 {"contacts", contacts.size()}, {"stamp_radius", options.enricher.stampRadius},
-                {"magnitude_aware", !correlationOnly}, {"rim_band", rimBand}, {"gain", gain},
+                {"magnitude_aware", !correlationOnly}, {"rim_band", rimBand}, {"gain", gain}, {"lambda", lambda},
                 {"surface_vertices", acq.fineSurface().vertices.cols()},
                 {"sigma_rho", widths.sigmaRho}, {"sigma_u", widths.sigmaU},
                 {"coarse_rms", score.coarseRms}, {"enriched_rms", score.enrichedRms}, {"ratio", score.ratio()},
