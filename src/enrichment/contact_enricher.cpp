@@ -91,7 +91,8 @@ void ContactEnricher::checkState(const Eigen::Matrix3Xd& current) const {
   if (current.cols() != rest_.vertices.cols())
     throw InvalidInputError("contact enricher: " + std::to_string(current.cols()) + " current positions for " +
                             std::to_string(rest_.vertices.cols()) + " surface vertices");
-  if (!current.allFinite()) throw InvalidInputError("contact enricher: non-finite current surface positions");
+  // x * 0 is NaN exactly for non-finite x; Eigen's vectorised sum checks 50k vertices in tens of microseconds.
+  if (!std::isfinite((current.array() * 0.0).sum())) throw InvalidInputError("contact enricher: non-finite current surface positions");
 }
 
 Eigen::Vector3d ContactEnricher::currentNormal(const Eigen::Matrix3Xd& current, int vertex) const {
