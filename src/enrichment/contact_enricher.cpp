@@ -66,7 +66,9 @@ ContactEnricher::ContactEnricher(ContactEnricher&&) noexcept = default;
 ContactEnricher& ContactEnricher::operator=(ContactEnricher&&) noexcept = default;
 
 void ContactEnricher::setExamples(const examples::ExampleSet& set, const ExampleBlenderOptions& blenderOptions) {
-  auto blender = std::make_shared<const ExampleBlender>(set, blenderOptions);
+  ExampleBlenderOptions o = blenderOptions;
+  o.magnitudeAware = options_.magnitudeAware;  // fit the widths for the predictor actually used
+  auto blender = std::make_shared<const ExampleBlender>(set, o);
   if (std::abs(blender->stampRadius() - options_.stampRadius) > 1e-9 * options_.stampRadius)
     throw InvalidInputError("contact enricher: example stamp radius " + std::to_string(blender->stampRadius()) +
                             " m differs from the configured " + std::to_string(options_.stampRadius) + " m");

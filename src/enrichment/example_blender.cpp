@@ -25,7 +25,13 @@ ExampleBlender::ExampleBlender(const examples::ExampleSet& set, const ExampleBle
   if (options.fitWidths && size() >= 2) {
     const Eigen::MatrixXd gram = stampGramMatrix(stamps_);
     if (gram.trace() > 0.0) {  // all-zero stamps: nothing to cross-validate, keep the given widths
-      fit_ = fitKernelWidths(dissimilarities_, gram, defaultKernelWidthGrid(dissimilarities_, options.gridCount), lambda_);
+      Eigen::VectorXd magnitudes;
+      if (options.magnitudeAware) {
+        magnitudes.resize(size());
+        for (Eigen::Index i = 0; i < size(); ++i) magnitudes[i] = mu[static_cast<std::size_t>(i)].values().norm();
+      }
+      fit_ = fitKernelWidths(dissimilarities_, gram, defaultKernelWidthGrid(dissimilarities_, options.gridCount), lambda_,
+                             magnitudes);
       widths_ = fit_->best;
     }
   }

@@ -26,9 +26,10 @@ std::vector<double> geometric(double lo, double hi, int count) {
   return v;
 }
 
-// Sum over held-out k of |Psi^_k - Psi_k|^2 with Psi^_k = sum_{i != k} x_i Psi_i and
-// x = ((K_S)^2 + lambda^2 I)^-1 K_S K_Sk (the RBF weights of rbf_interpolation.hpp from the other examples).
-double leaveOneOutSquaredError(const Eigen::MatrixXd& K, const Eigen::MatrixXd& G, double lambda) {
+// Sum over held-out k of c_k |Psi^_k - Psi_k|^2 with Psi^_k = sum_{i != k} x_i Psi_i and
+// x = ((K_S)^2 + lambda^2 I)^-1 K_S K_Sk (the RBF weights of rbf_interpolation.hpp from the other examples);
+// G is the Gram matrix of the Psi, c_k = 1 when `scale` is empty, else scale_k.
+double leaveOneOutSquaredError(const Eigen::MatrixXd& K, const Eigen::MatrixXd& G, double lambda, const Eigen::VectorXd& scale) {
   const Eigen::Index n = K.rows();
   const Eigen::MatrixXd K2 = K * K;
   std::vector<Eigen::Index> others(static_cast<std::size_t>(n - 1));
@@ -50,7 +51,7 @@ double leaveOneOutSquaredError(const Eigen::MatrixXd& K, const Eigen::MatrixXd& 
     x = llt.solve(rhs);
     gS = G(others, k);
     const double error = x.dot(G(others, others) * x) - 2.0 * x.dot(gS) + G(k, k);
-    total += std::max(0.0, error);  // a squared norm; clamp the rounding of the expansion
+    total += (scale.size() ? scale[k] : 1.0) * std::max(0.0, error);  // a squared norm; clamp the rounding
   }
   return total;
 }
@@ -89,14 +90,33 @@ KernelWidthGrid defaultKernelWidthGrid(const ExampleDissimilarities& d, int coun
   return {geometric(0.05 * median, 5.0 * median, count), geometric(0.02, 2.0, count)};
 }
 
-double leaveOneOutError(const ExampleDissimilarities& d, const Eigen::MatrixXd& stampGram, const KernelWidths& widths, double lambda) {
-  checkInputs(d, stampGram);
-  if (!(lambda > 0.0)) throw InvalidInputError("leaveOneOutError: regularisation must be positive");
-  return leaveOneOutSquaredError(kernelMatrix(d, widths), stampGram, lambda) / stampGram.trace();
+// Magnitude-aware prediction Psi^_k = sum_i x_i (m_k / m_i) Psi_i: with Phi_i = Psi_i / m_i its error is
+// m_k^2 |sum_i x_i Phi_i - Phi_k|^2, the plain error on the Gram matrix of the Phi scaled by m_k^2 (m_i = 0:
+// Phi_i = 0, as the run time drops such an example).
+struct ScaledGram {
+  Eigen::MatrixXd gram;
+  Eigen::VectorXd scale;
+};
+ScaledGram scaledGram(const Eigen::MatrixXd& G, const Eigen::VectorXd& magnitudes) {
+  if (magnitudes.size() == 0) return {G, Eigen::VectorXd()};
+  if (magnitudes.size() != G.rows() || !magnitudes.allFinite() || (magnitudes.array() < 0.0).any())
+    throw InvalidInputError("kernel width fitting: one finite, non-negative magnitude per example expected");
+  const Eigen::VectorXd inverse = magnitudes.unaryExpr([](double m) { return m > 0.0 ? 1.0 / m : 0.0; });
+  return {inverse.asDiagonal() * G * inverse.asDiagonal(), magnitudes.array().square()};
 }
 
-KernelWidthFit fitKernelWidths(const ExampleDissimilarities& d, const Eigen::MatrixXd& stampGram, const KernelWidthGrid& grid, double lambda) {
+double leaveOneOutError(const ExampleDissimilarities& d, const Eigen::MatrixXd& stampGram, const KernelWidths& widths, double lambda,
+                        const Eigen::VectorXd& magnitudes) {
   checkInputs(d, stampGram);
+  if (!(lambda > 0.0)) throw InvalidInputError("leaveOneOutError: regularisation must be positive");
+  const ScaledGram scaled = scaledGram(stampGram, magnitudes);
+  return leaveOneOutSquaredError(kernelMatrix(d, widths), scaled.gram, lambda, scaled.scale) / stampGram.trace();
+}
+
+KernelWidthFit fitKernelWidths(const ExampleDissimilarities& d, const Eigen::MatrixXd& stampGram, const KernelWidthGrid& grid, double lambda,
+                               const Eigen::VectorXd& magnitudes) {
+  checkInputs(d, stampGram);
+  const ScaledGram scaled = scaledGram(stampGram, magnitudes);
   if (grid.sigmaRho.empty() || grid.sigmaU.empty()) throw InvalidInputError("fitKernelWidths: empty grid");
   for (double s : grid.sigmaRho)
     if (!(s > 0.0 && std::isfinite(s))) throw InvalidInputError("fitKernelWidths: sigma_rho grid values must be positive");
@@ -114,7 +134,7 @@ KernelWidthFit fitKernelWidths(const ExampleDissimilarities& d, const Eigen::Mat
   for (int pair = 0; pair < a * b; ++pair) {
     const KernelWidths widths{grid.sigmaRho[static_cast<std::size_t>(pair / b)], grid.sigmaU[static_cast<std::size_t>(pair % b)]};
     try {
-      fit.errors(pair / b, pair % b) = leaveOneOutSquaredError(kernelMatrix(d, widths), stampGram, lambda) / norm;
+      fit.errors(pair / b, pair % b) = leaveOneOutSquaredError(kernelMatrix(d, widths), scaled.gram, lambda, scaled.scale) / norm;
     } catch (const Error&) {
 #pragma omp critical
       failed = true;

@@ -21,6 +21,8 @@ struct ExampleBlenderOptions {
   KernelWidths widths;             ///< used when not fitting
   int gridCount = 12;              ///< defaultKernelWidthGrid size per width
   double lambda = RbfInterpolator::kDefaultRegularisation;
+  /// Fit the widths for magnitude-aware stamps (contact_enricher.hpp), i.e. predicting with |mu| / |mu[i]|.
+  bool magnitudeAware = false;
 };
 
 struct BlendResult {

@@ -29,9 +29,12 @@ struct KernelWidthGrid {
 KernelWidthGrid defaultKernelWidthGrid(const ExampleDissimilarities& d, int count = 12);
 
 /// Relative leave-one-out stamp error for one width pair (see above). Needs at least 2 examples and a
-/// non-zero stamp; throws InvalidInputError otherwise or for mismatched sizes.
+/// non-zero stamp; throws InvalidInputError otherwise or for mismatched sizes. With `magnitudes` m_i (|mu[i]|,
+/// one per example) the held-out stamp is predicted as the magnitude-aware run time does (contact_enricher.hpp):
+/// sum_i w~_i (m_k / m_i) Psi[i].
 double leaveOneOutError(const ExampleDissimilarities& d, const Eigen::MatrixXd& stampGram, const KernelWidths& widths,
-                        double lambda = RbfInterpolator::kDefaultRegularisation);
+                        double lambda = RbfInterpolator::kDefaultRegularisation,
+                        const Eigen::VectorXd& magnitudes = Eigen::VectorXd());
 
 struct KernelWidthFit {
   KernelWidths best;
@@ -42,6 +45,7 @@ struct KernelWidthFit {
 
 /// Brute force over the grid (OpenMP over width pairs); the minimum of `errors` wins.
 KernelWidthFit fitKernelWidths(const ExampleDissimilarities& d, const Eigen::MatrixXd& stampGram, const KernelWidthGrid& grid,
-                               double lambda = RbfInterpolator::kDefaultRegularisation);
+                               double lambda = RbfInterpolator::kDefaultRegularisation,
+                               const Eigen::VectorXd& magnitudes = Eigen::VectorXd());
 
 }  // namespace deformation_enrichment::enrichment

@@ -46,15 +46,12 @@ SyntheticSet syntheticSet(double tFrequency = 1.0) {
 
 }  // namespace
 
-TEST(KernelWidthFitting, GramShortcutMatchesExplicitLeaveOneOut) {
-  const SyntheticSet set = syntheticSet();
-  const en::ExampleDescriptorTable table(set.rho, set.mu);
-  const en::ExampleDissimilarities d = en::exampleDissimilarities(table, set.rho, set.mu);
-  const en::KernelWidths widths{0.6, 0.08};
-  const double fast = en::leaveOneOutError(d, en::stampGramMatrix(set.stamps), widths);
+namespace {
 
-  // Explicit: per held-out example a fresh table and interpolator of the others, eq. (15) weights by
-  // correlate(), the eq. (16) stamp by blendStamps().
+// Explicit leave-one-out: per held-out example a fresh table and interpolator of the others, eq. (15)
+// weights by correlate(), the eq. (16) stamp by blendStamps() of the stamps scaled by m_k / m_i when
+// `magnitudes` are given (magnitude-aware stamps). Returns the relative error.
+double explicitLeaveOneOut(const SyntheticSet& set, const en::KernelWidths& widths, const Eigen::VectorXd& magnitudes) {
   double error = 0.0, norm = 0.0;
   for (std::size_t k = 0; k < set.stamps.size(); ++k) {
     SyntheticSet others;
@@ -62,7 +59,9 @@ TEST(KernelWidthFitting, GramShortcutMatchesExplicitLeaveOneOut) {
       if (i != k) {
         others.rho.push_back(set.rho[i]);
         others.mu.push_back(set.mu[i]);
-        others.stamps.push_back(set.stamps[i]);
+        cv::Mat stamp = set.stamps[i].clone();
+        if (magnitudes.size()) stamp *= magnitudes[Eigen::Index(k)] / magnitudes[Eigen::Index(i)];
+        others.stamps.push_back(stamp);
       }
     const en::ExampleDescriptorTable t(others.rho, others.mu);
     const en::RbfInterpolator rbf(en::kernelMatrix(en::exampleDissimilarities(t, others.rho, others.mu), widths));
@@ -78,7 +77,26 @@ TEST(KernelWidthFitting, GramShortcutMatchesExplicitLeaveOneOut) {
     set.stamps[k].convertTo(exact, CV_64FC3);
     norm += exact.dot(exact);
   }
-  EXPECT_NEAR(fast, error / norm, 1e-6 * (error / norm) + 1e-9);
+  return error / norm;
+}
+
+}  // namespace
+
+TEST(KernelWidthFitting, GramShortcutMatchesExplicitLeaveOneOut) {
+  const SyntheticSet set = syntheticSet();
+  const en::ExampleDescriptorTable table(set.rho, set.mu);
+  const en::ExampleDissimilarities d = en::exampleDissimilarities(table, set.rho, set.mu);
+  const en::KernelWidths widths{0.6, 0.08};
+  const Eigen::MatrixXd gram = en::stampGramMatrix(set.stamps);
+  const double plain = explicitLeaveOneOut(set, widths, Eigen::VectorXd());
+  EXPECT_NEAR(en::leaveOneOutError(d, gram, widths), plain, 1e-6 * plain + 1e-9);
+  // Magnitude-aware prediction: the scaled Gram shortcut against scaling the stamps themselves.
+  const Eigen::VectorXd magnitudes = Eigen::VectorXd::LinSpaced(Eigen::Index(set.stamps.size()), 0.5, 2.0);
+  const double aware = explicitLeaveOneOut(set, widths, magnitudes);
+  EXPECT_NEAR(en::leaveOneOutError(d, gram, widths, en::RbfInterpolator::kDefaultRegularisation, magnitudes), aware,
+              1e-6 * aware + 1e-9);
+  EXPECT_GT(std::abs(aware - plain), 1e-3 * plain);  // the magnitudes do change the prediction
+  EXPECT_THROW(en::leaveOneOutError(d, gram, widths, 1e-3, Eigen::VectorXd::Ones(3)), de::InvalidInputError);
 }
 
 TEST(KernelWidthFitting, BestWidthsLieWhereTheExampleSpacingSaysAndBeatTheGridEdges) {
