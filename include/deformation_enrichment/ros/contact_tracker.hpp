@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "deformation_enrichment/ToolContactArray.h"
+#include "deformation_enrichment/ros/tool_tip.hpp"
 
 namespace deformation_enrichment::ros_layer {
 
@@ -29,11 +30,13 @@ public:
   /// a frame tf cannot transform); then the previous contacts stay.
   void updateFromArray(const ToolContactArray& message, const std::string& meshFrame);
 
-  /// Derives the contact of one tool from its tip pose: in contact when the tip lies within
-  /// `contactDistance` of a surface vertex; the normal is that vertex's rest normal. Throws like above.
+  /// Derives the contact of one tool from the pose of its tip link: in contact when a surface vertex lies
+  /// within `contactDistance` of the tip's surface (signed distance, so also when inside the tip); the
+  /// contact is the vertex closest to (deepest in) the tip, its normal that vertex's rest normal. A point
+  /// tip is the pose's position. The surface is represented by its vertices. Throws like above.
   void updateFromToolPose(const geometry_msgs::PoseStamped& pose, const std::string& toolId,
                           const std::string& meshFrame, const Eigen::Matrix3Xf& surface,
-                          const Eigen::Matrix3Xd& restNormals, double contactDistance);
+                          const Eigen::Matrix3Xd& restNormals, double contactDistance, const ToolTip& tip = {});
 
   /// Contacts in contact and not older than the staleness limit at `now`. A clock that jumped backwards
   /// (a rosbag loop) clears everything.

@@ -2,6 +2,10 @@
 
 #include <tf2_eigen/tf2_eigen.h>
 
+#include <cmath>
+#include <limits>
+#include <string>
+
 #include "deformation_enrichment/error.hpp"
 
 namespace deformation_enrichment::ros_layer {
@@ -46,16 +50,32 @@ void ContactTracker::updateFromArray(const ToolContactArray& message, const std:
 
 void ContactTracker::updateFromToolPose(const geometry_msgs::PoseStamped& pose, const std::string& toolId,
                                         const std::string& meshFrame, const Eigen::Matrix3Xf& surface,
-                                        const Eigen::Matrix3Xd& restNormals, double contactDistance) {
-  Eigen::Vector3d tip;
-  tf2::fromMsg(pose.pose.position, tip);
-  if (!tip.allFinite()) throw InvalidInputError("tool pose of '" + toolId + "' is not finite");
-  tip = toMeshFrame(pose.header, meshFrame) * tip;
+                                        const Eigen::Matrix3Xd& restNormals, double contactDistance, const ToolTip& tip) {
+  Eigen::Vector3d position;
+  tf2::fromMsg(pose.pose.position, position);
+  Eigen::Quaterniond orientation;
+  tf2::fromMsg(pose.pose.orientation, orientation);
+  if (!position.allFinite() || !orientation.coeffs().allFinite())
+    throw InvalidInputError("tool pose of '" + toolId + "' is not finite");
+  // A point tip ignores the orientation (a position-only source may leave the quaternion zero).
+  if (tip.isPoint()) orientation = Eigen::Quaterniond::Identity();
+  else if (std::abs(orientation.norm() - 1.0) > 1e-3)
+    throw InvalidInputError("tool pose of '" + toolId + "' has no valid orientation (quaternion norm " +
+                            std::to_string(orientation.norm()) + ")");
+  const Eigen::Isometry3d linkPose = Eigen::Translation3d(position) * orientation.normalized();
+  const Eigen::Isometry3d meshToLink = (toMeshFrame(pose.header, meshFrame) * linkPose).inverse();
   if (surface.cols() == 0) throw InvalidInputError("no mesh state yet to find the contact of tool '" + toolId + "'");
   Eigen::Index nearest = 0;
-  const double squaredDistance = (surface.cast<double>().colwise() - tip).colwise().squaredNorm().minCoeff(&nearest);
+  double distance = std::numeric_limits<double>::infinity();
+  for (Eigen::Index v = 0; v < surface.cols(); ++v) {
+    const double d = tip.signedDistance(meshToLink * Eigen::Vector3d(surface.col(v).cast<double>()));
+    if (d < distance) {
+      distance = d;
+      nearest = v;
+    }
+  }
   latestStamp_ = std::max(latestStamp_, pose.header.stamp);
-  if (squaredDistance > contactDistance * contactDistance) {
+  if (distance > contactDistance) {
     contacts_.erase(toolId);
     return;
   }

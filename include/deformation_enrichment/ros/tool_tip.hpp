@@ -1,0 +1,46 @@
+#pragma once
+// The tool tip's collision geometry, read from the URDF in robot_description, for deriving contacts from a
+// tool pose: the tool touches the surface where the tip's surface comes within the contact distance of it.
+// Without a URDF the tip is a point (the pose's position), the behaviour before URDF support.
+#include <Eigen/Geometry>
+#include <string>
+#include <vector>
+
+namespace deformation_enrichment::ros_layer {
+
+struct TipPrimitive {
+  enum class Shape { Sphere, Cylinder, Box };
+  Shape shape = Shape::Sphere;
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();  ///< collision frame in the tip link's frame
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();  ///< sphere (r, -, -), cylinder (r, length, -) along z, box extents
+};
+
+class ToolTip {
+public:
+  /// A point tip at the link origin.
+  ToolTip() = default;
+  explicit ToolTip(std::string link, std::vector<TipPrimitive> primitives);
+
+  bool isPoint() const { return primitives_.empty(); }
+  const std::string& link() const { return link_; }
+  const std::vector<TipPrimitive>& primitives() const { return primitives_; }
+
+  /// Signed distance of a point (in the tip link's frame) to the tip surface, negative inside; the union
+  /// of the collision primitives (smallest distance). A point tip: distance to the link origin.
+  double signedDistance(const Eigen::Vector3d& pointInLink) const;
+
+  /// e.g. "sphere r=0.004 m of link 'tool_tip'" (for logs and diagnostics).
+  std::string description() const;
+
+private:
+  std::string link_;
+  std::vector<TipPrimitive> primitives_;
+  std::vector<Eigen::Isometry3d> toPrimitive_;  // inverse origins, per primitive
+};
+
+/// The collision geometry of `link` in the URDF text `urdfXml`. Throws InvalidInputError naming the
+/// problem: unparsable URDF, no such link, no collision element, mesh geometry (unsupported), or
+/// non-positive / non-finite dimensions.
+ToolTip toolTipFromUrdf(const std::string& urdfXml, const std::string& link);
+
+}  // namespace deformation_enrichment::ros_layer
