@@ -7,6 +7,7 @@
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/tet_mesh.hpp"
+#include "deformation_enrichment/ros/contact_tracker.hpp"
 #include "deformation_enrichment/ros/tool_tip.hpp"
 #include "enrichment_node_fixture.hpp"
 
@@ -341,6 +342,44 @@ TEST(ToolTipGeometry, SignedDistancesOfUrdfPrimitivesAndClearErrors) {
   EXPECT_NE(message(urdf, "scan").find("mesh collision geometry is not supported"), std::string::npos);
   EXPECT_NE(message("<robot", "ball").find("not a valid URDF"), std::string::npos);
   EXPECT_NE(message("", "ball").find("empty"), std::string::npos);
+}
+
+TEST(ToolTipGeometry, ContactTrackerUsesTheTipPoseOrientation) {
+  // A rod (r = 2 mm, 40 mm long along its link's z, centred on the link origin) over a flat patch at z = 0.
+  // At 10 mm height upright it pierces the surface (its lower end is 10 mm below); turned 90 degrees about y it lies
+  // along x, 8 mm above (free); lowered to 5 mm, 3 mm above (in contact under its axis).
+  const std::string urdf = R"(<robot name="rod_test"><link name="rod"><collision>
+    <geometry><cylinder radius="0.002" length="0.04"/></geometry></collision></link></robot>)";
+  const de::ros_layer::ToolTip rod = de::ros_layer::toolTipFromUrdf(urdf, "rod");
+  Eigen::Matrix3Xf surface(3, 121);
+  for (int i = 0; i < 11; ++i)
+    for (int j = 0; j < 11; ++j) surface.col(11 * i + j) = Eigen::Vector3f(-0.025f + 0.005f * i, -0.025f + 0.005f * j, 0.0f);
+  const Eigen::Matrix3Xd normals = Eigen::Vector3d::UnitZ().replicate(1, 121);
+  tf2_ros::Buffer tf;
+  de::ros_layer::ContactTracker tracker(tf, ros::Duration(0.5));
+  geometry_msgs::PoseStamped pose;
+  pose.header.frame_id = "slab";
+  pose.header.stamp = ros::Time(10.0);
+  pose.pose.position.x = 0.0025;  // between grid columns
+  pose.pose.position.z = 0.01;
+  pose.pose.orientation.w = 1.0;
+  tracker.updateFromToolPose(pose, "rod", "slab", surface, normals, 0.0035, rod);
+  auto active = tracker.active(pose.header.stamp);
+  ASSERT_EQ(active.size(), 1u) << "upright, the rod pierces the surface";
+  EXPECT_LE((active[0].position - Eigen::Vector3d(0.0025, 0.0, 0.0)).norm(), 0.0036) << "a vertex under the rod's end";
+  pose.pose.orientation.w = std::sqrt(0.5);
+  pose.pose.orientation.y = std::sqrt(0.5);
+  tracker.updateFromToolPose(pose, "rod", "slab", surface, normals, 0.0035, rod);
+  EXPECT_TRUE(tracker.active(pose.header.stamp).empty()) << "lying along x 10 mm up, the rod is 8 mm above the surface";
+  pose.pose.position.z = 0.005;
+  tracker.updateFromToolPose(pose, "rod", "slab", surface, normals, 0.0035, rod);
+  active = tracker.active(pose.header.stamp);
+  ASSERT_EQ(active.size(), 1u) << "lying along x 5 mm up, the rod is 3 mm above the surface";
+  EXPECT_NEAR(active[0].position.z(), 0.0, 1e-9);
+  EXPECT_LE(std::abs(active[0].position.y()), 1e-6) << "the contact lies under the rod's axis";
+  EXPECT_LE(std::abs(active[0].position.x() - 0.0025), 0.0201) << "and along its length";
+  pose.pose.orientation.w = 0.5;  // not a unit quaternion: refused for a shaped tip
+  EXPECT_THROW(tracker.updateFromToolPose(pose, "rod", "slab", surface, normals, 0.0035, rod), de::InvalidInputError);
 }
 
 TEST_F(EnrichmentKnobsTest, ToolTipFromTheUrdfDecidesProximity) {
