@@ -84,7 +84,8 @@ protected:
     return value;
   }
 
-  /// A contact at (x, 0, z) and a state with a stamp `offset` seconds after it (the contact stays active).
+  /// Publishes a contact at (x, 0, z) and returns its stamp once the node has it (states stamped up to
+  /// 0.5 s later see it).
   ros::Time touch(double x, double z) {
     de::ToolContactArray contacts;
     contacts.header = header();
@@ -96,7 +97,17 @@ protected:
     tool.normal.z = 1.0;
     contacts.contacts.push_back(tool);
     contactsPub_.publish(contacts);
-    ros::WallDuration(0.3).sleep();
+    // Under load the contact may arrive after a state sent right away: probe with rest states (stamped just
+    // after the contact) until one reports the tool.
+    for (int k = 1; k <= 40; ++k) {
+      sensor_msgs::PointCloud2 probe = goodState();
+      probe.header.stamp = contacts.header.stamp + ros::Duration(0.001 * k);
+      if (roundTrip(probe, 1.0)) {
+        const auto status = statusFor(probe.header.stamp, 1.0);
+        if (status && !status->tool_ids.empty()) break;
+      }
+      ros::WallDuration(0.05).sleep();
+    }
     return contacts.header.stamp;
   }
 
