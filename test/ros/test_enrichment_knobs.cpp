@@ -265,6 +265,45 @@ TEST_F(EnrichmentKnobsTest, UnchangedInputIsRepublishedWithoutRecomputingAChange
   EXPECT_EQ(diagnosticValue("states reused (unchanged input)"), std::to_string(thirdStatus->states_reused));
 }
 
+TEST_F(EnrichmentKnobsTest, ReconfiguringWhileStatesStreamGivesOnlyConsistentOutputs) {
+  setRest(slabSurface(20));
+  const std::string directory = ::testing::TempDir() + "de_knobs_stream_set";
+  const Eigen::Matrix3Xd dented = makeDentExampleSet(rest_, directory);
+  loadSet(directory);
+  const ros::Time contact = touch(0.0, 0.018);
+  const Eigen::Index centre = vertexNear(Eigen::Vector3d(0, 0, 0.02));
+  const float z = static_cast<float>(dented(2, centre));
+  // States stream while the gain (1 <-> 0.5) and the Hermite order (2 <-> 1) change on the service thread:
+  // every output must come from one consistent configuration (centre moved by 1 mm x gain), none torn.
+  std::vector<ros::Time> stamps;
+  for (int k = 0; k < 60; ++k) {
+    std_msgs::Header h;
+    h.frame_id = "slab";
+    h.stamp = contact + ros::Duration(0.1 + 0.005 * k);
+    statePub_.publish(cloudFromPositions(dented.cast<float>(), h));
+    stamps.push_back(h.stamp);
+    if (k % 10 == 5) reconfigure({{"stamp_gain", k % 20 == 5 ? 0.5 : 1.0}}, {{"hermite_order", k % 20 == 5 ? 1 : 0}});
+    ros::spinOnce();
+    ros::WallDuration(0.002).sleep();
+  }
+  waitFor([&] { return findEnriched(stamps.back()) != nullptr; }, 3.0);
+  int outputs = 0;
+  for (const ros::Time& stamp : stamps) {
+    const auto out = findEnriched(stamp);
+    if (!out) continue;  // the node's input queue (2) drops states under a burst
+    ++outputs;
+    const Eigen::Matrix3Xf positions = positionsFromCloud(*out);
+    ASSERT_TRUE(positions.allFinite());
+    const float moved = positions(2, centre) - z;
+    EXPECT_TRUE(std::abs(moved + 0.001f) < 2e-4f || std::abs(moved + 0.0005f) < 1e-4f) << "centre moved " << moved;
+    const auto status = statusFor(stamp, 1.0);
+    ASSERT_TRUE(status);
+    EXPECT_TRUE(std::isfinite(status->confidence));
+  }
+  EXPECT_GE(outputs, 5) << "the node must keep publishing while being reconfigured";
+  std::printf("[ stream   ] %d of %zu states published during 6 reconfigurations\n", outputs, stamps.size());
+}
+
 /// The slab with a 5 mm wide, 10 mm deep groove cut across its top at x in [0.025, 0.03]: a different
 /// closed surface (different vertex count) of the same object after a cut.
 de::mesh::TriangleMesh cutSlabSurface() {
