@@ -29,6 +29,19 @@ public:
   /// of the collision primitives (smallest distance). A point tip: distance to the link origin.
   double signedDistance(const Eigen::Vector3d& pointInLink) const;
 
+  /// Distance from the tip to the triangle (a, b, c) (link frame): the smallest signed distance of a
+  /// triangle point, found per primitive by alternating projections between the two convex sets (they
+  /// converge to a closest pair for disjoint sets; every iterate is a triangle point, so the result never
+  /// under-estimates the distance; stopped when a supporting-plane lower bound is within 0.1 um). When the
+  /// triangle cuts into the tip the result is <= 0 or a few um above (the iterates approach the
+  /// intersection from outside), not the depth. `closest` receives the triangle point attaining it.
+  double triangleDistance(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                          Eigen::Vector3d* closest = nullptr) const;
+
+  /// A ball (link frame) containing the tip: signedDistance(p) >= |p - centre| - radius, a cheap lower bound.
+  const Eigen::Vector3d& boundCentre() const { return boundCentre_; }
+  double boundRadius() const { return boundRadius_; }
+
   /// e.g. "sphere r=0.004 m of link 'tool_tip'" (for logs and diagnostics).
   std::string description() const;
 
@@ -36,7 +49,13 @@ private:
   std::string link_;
   std::vector<TipPrimitive> primitives_;
   std::vector<Eigen::Isometry3d> toPrimitive_;  // inverse origins, per primitive
+  Eigen::Vector3d boundCentre_ = Eigen::Vector3d::Zero();
+  double boundRadius_ = 0.0;
 };
+
+/// The point of triangle (a, b, c) nearest to p (Voronoi regions of vertices, edges and face).
+Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                       const Eigen::Vector3d& c);
 
 /// The collision geometry of `link` in the URDF text `urdfXml`. Throws InvalidInputError naming the
 /// problem: unparsable URDF, no such link, no collision element, mesh geometry (unsupported), or
