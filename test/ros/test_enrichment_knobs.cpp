@@ -355,6 +355,38 @@ TEST_F(EnrichmentKnobsTest, RestMeshReplacedAtRunTimeKeepsEnrichingAndRejectsOld
   EXPECT_GT(addedAt(dentedB, contactB, 0.2).cols(), 0) << "B keeps enriching after the rejected state";
 }
 
+TEST_F(EnrichmentKnobsTest, AnOpenRestMeshIsReportedPassesStatesThroughAndAClosedOneEnrichesAgain) {
+  setRest(slabSurface(20));
+  const std::string directory = ::testing::TempDir() + "de_knobs_open_set";
+  const Eigen::Matrix3Xd dented = makeDentExampleSet(rest_, directory);
+  loadSet(directory);
+  const de::mesh::TriangleMesh closed = rest_;
+  // Triangles removed from the top (a hole, not a groove): the site descriptor's interior sampling needs a
+  // closed surface, so this rest mesh cannot be enriched.
+  de::mesh::TriangleMesh open = closed;
+  std::vector<Eigen::Index> kept;
+  for (Eigen::Index t = 0; t < closed.numTriangles(); ++t) {
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k) centroid += closed.vertices.col(closed.triangles(k, t)) / 3.0;
+    if (!(centroid.z() > 0.019 && centroid.x() > 0.02 && centroid.x() < 0.03 && std::abs(centroid.y()) < 0.005)) kept.push_back(t);
+  }
+  ASSERT_LT(static_cast<Eigen::Index>(kept.size()), closed.numTriangles());
+  open.triangles.resize(3, static_cast<Eigen::Index>(kept.size()));
+  for (size_t i = 0; i < kept.size(); ++i) open.triangles.col(static_cast<Eigen::Index>(i)) = closed.triangles.col(kept[i]);
+  setRest(open);
+  EXPECT_TRUE(logged("cannot enrich the new rest mesh"));
+  const ros::Time contact = touch(0.0, 0.018);
+  const Eigen::Matrix3Xf passed = addedAt(dented, contact);
+  ASSERT_EQ(passed.cols(), open.numVertices()) << "states of the open mesh still flow";
+  EXPECT_EQ(passed.cwiseAbs().maxCoeff(), 0.0f) << "unenriched, bit for bit";
+
+  setRest(closed);
+  const ros::Time again = touch(0.0, 0.018);
+  const Eigen::Matrix3Xf added = addedAt(dented, again);
+  ASSERT_GT(added.cols(), 0);
+  EXPECT_NEAR(added(2, vertexNear(Eigen::Vector3d(0, 0, 0.02))), -0.001, 2e-4) << "the closed mesh enriches again";
+}
+
 TEST_F(EnrichmentKnobsTest, ToolTipFromTheUrdfDecidesProximity) {
   ros::NodeHandle privateNh("~");
   // "sphere": the node has a sphere tip of radius r from robot_description; "fallback": a broken
