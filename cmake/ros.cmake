@@ -2,20 +2,22 @@
 
 set(DE_CATKIN_COMPONENTS
   roscpp message_generation std_msgs geometry_msgs sensor_msgs visualization_msgs shape_msgs pcl_msgs
-  diagnostic_msgs diagnostic_updater tf2 tf2_ros tf2_eigen tf2_geometry_msgs pcl_conversions urdf nodelet pluginlib rosbag)
+  diagnostic_msgs diagnostic_updater tf2 tf2_ros tf2_eigen tf2_geometry_msgs pcl_conversions urdf nodelet pluginlib rosbag dynamic_reconfigure)
 find_package(catkin REQUIRED COMPONENTS ${DE_CATKIN_COMPONENTS})
 
 add_message_files(DIRECTORY msg FILES ToolContact.msg ToolContactArray.msg EnrichmentStatus.msg)
 add_service_files(DIRECTORY srv FILES LoadExampleSet.srv SegmentSites.srv SmoothSequence.srv ComputeGeodesic.srv
   BezierCurve.srv)
 generate_messages(DEPENDENCIES std_msgs geometry_msgs sensor_msgs pcl_msgs)
+# Run-time knobs of the enrichment node (header deformation_enrichment/EnrichmentConfig.h).
+generate_dynamic_reconfigure_options(cfg/Enrichment.cfg)
 
 catkin_package(
   INCLUDE_DIRS include
   LIBRARIES deformation_enrichment_core deformation_enrichment_ros
   CATKIN_DEPENDS roscpp message_runtime std_msgs geometry_msgs sensor_msgs visualization_msgs shape_msgs
                  pcl_msgs diagnostic_msgs diagnostic_updater tf2 tf2_ros tf2_eigen tf2_geometry_msgs
-                 pcl_conversions urdf nodelet pluginlib)
+                 pcl_conversions urdf nodelet pluginlib dynamic_reconfigure)
 
 set(DE_BUILD_TESTS ${CATKIN_ENABLE_TESTING})
 include(cmake/core.cmake)
@@ -27,7 +29,8 @@ target_compile_options(deformation_enrichment_ros PRIVATE ${DE_WARNINGS})
 target_include_directories(deformation_enrichment_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS})
 target_include_directories(deformation_enrichment_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
 target_link_libraries(deformation_enrichment_ros deformation_enrichment_core ${catkin_LIBRARIES})
-add_dependencies(deformation_enrichment_ros ${PROJECT_NAME}_generate_messages_cpp ${catkin_EXPORTED_TARGETS})
+add_dependencies(deformation_enrichment_ros ${PROJECT_NAME}_generate_messages_cpp ${PROJECT_NAME}_gencfg
+  ${catkin_EXPORTED_TARGETS})
 
 add_library(deformation_enrichment_nodelets SHARED src/ros/enrichment_nodelet.cpp)
 target_compile_options(deformation_enrichment_nodelets PRIVATE ${DE_WARNINGS})
@@ -83,6 +86,12 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(test_enrichment_node deformation_enrichment_ros)
   add_dependencies(test_enrichment_node enrichment_node deformation_enrichment_nodelets)
   add_rostest(test/ros/enrichment_nodelet.test DEPENDENCIES test_enrichment_node)
+  add_rostest_gtest(test_enrichment_knobs test/ros/enrichment_knobs.test test/ros/test_enrichment_knobs.cpp
+    test/ros/test_tool_tip.cpp)
+  target_compile_options(test_enrichment_knobs PRIVATE ${DE_WARNINGS})
+  target_link_libraries(test_enrichment_knobs deformation_enrichment_ros)
+  add_dependencies(test_enrichment_knobs enrichment_node deformation_enrichment_nodelets)
+  add_rostest(test/ros/enrichment_knobs_nodelet.test DEPENDENCIES test_enrichment_knobs)
   add_rostest(test/ros/demo.test DEPENDENCIES ${DE_NODE_TARGETS})
   add_rostest_gtest(test_recorded_sequence test/ros/recorded_sequence.test test/ros/test_recorded_sequence.cpp)
   target_compile_options(test_recorded_sequence PRIVATE ${DE_WARNINGS})

@@ -68,7 +68,7 @@ ContactEnricher& ContactEnricher::operator=(ContactEnricher&&) noexcept = defaul
 void ContactEnricher::setExamples(const examples::ExampleSet& set, const ExampleBlenderOptions& blenderOptions) {
   ExampleBlenderOptions o = blenderOptions;
   o.magnitudeAware = options_.magnitudeAware;  // fit the widths for the predictor actually used
-  auto blender = std::make_shared<const ExampleBlender>(set, o);
+  auto blender = std::make_shared<ExampleBlender>(set, o);
   if (std::abs(blender->stampRadius() - options_.stampRadius) > 1e-9 * options_.stampRadius)
     throw InvalidInputError("contact enricher: example stamp radius " + std::to_string(blender->stampRadius()) +
                             " m differs from the configured " + std::to_string(options_.stampRadius) + " m");
@@ -79,6 +79,7 @@ void ContactEnricher::setExamples(const examples::ExampleSet& set, const Example
     muNorms(static_cast<Eigen::Index>(i)) = set.examples[i].mu.values().norm();
   }
   // Only now: a rejected set leaves the previous one active.
+  loadedWidths_ = blender->widths();
   blender_ = std::move(blender);
   stamps_ = std::move(stamps);
   muNorms_ = std::move(muNorms);
@@ -87,6 +88,15 @@ void ContactEnricher::setExamples(const examples::ExampleSet& set, const Example
 void ContactEnricher::setStampGain(double gain) {
   if (!(gain >= 0.0) || !std::isfinite(gain)) throw InvalidInputError("contact enricher: stamp gain must be >= 0 and finite");
   options_.stampGain = gain;
+}
+
+void ContactEnricher::setKernelWidths(double sigmaRho, double sigmaU) {
+  if (!blender_) throw InvalidInputError("contact enricher: no example set loaded to set kernel widths for");
+  if (!std::isfinite(sigmaRho) || !std::isfinite(sigmaU)) throw InvalidInputError("contact enricher: kernel widths must be finite");
+  KernelWidths widths = loadedWidths_;
+  if (sigmaRho > 0.0) widths.sigmaRho = sigmaRho;
+  if (sigmaU > 0.0) widths.sigmaU = sigmaU;
+  blender_->setWidths(widths);
 }
 
 void ContactEnricher::checkState(const Eigen::Matrix3Xd& current) const {

@@ -2,23 +2,11 @@
 
 #include <string>
 
+#include "deformation_enrichment/enrichment/descriptor_order.hpp"
 #include "deformation_enrichment/enrichment/stamp.hpp"
 #include "deformation_enrichment/error.hpp"
 
 namespace deformation_enrichment::enrichment {
-namespace {
-
-hermite::MomentList truncated(const hermite::MomentList& moments, int lastOrder, const char* what) {
-  if (lastOrder < moments.firstOrder() || lastOrder > moments.lastOrder())
-    throw InvalidInputError(std::string("withHermiteOrders: ") + what + " holds orders " + std::to_string(moments.firstOrder()) +
-                            ".." + std::to_string(moments.lastOrder()) + ", cannot keep up to order " + std::to_string(lastOrder));
-  hermite::MomentList kept(moments.firstOrder(), lastOrder, moments.channels());
-  for (int channel = 0; channel < moments.channels(); ++channel)
-    for (int n = moments.firstOrder(); n <= lastOrder; ++n) kept.order(n, channel) = moments.order(n, channel);
-  return kept;
-}
-
-}  // namespace
 
 examples::ExampleSet withStampResolution(const examples::ExampleSet& set, int resolution) {
   if (resolution < 2) throw InvalidInputError("withStampResolution: needs at least 2 nodes per side");
@@ -46,8 +34,8 @@ examples::ExampleSet withStampResolution(const examples::ExampleSet& set, int re
 examples::ExampleSet withHermiteOrders(const examples::ExampleSet& set, int siteOrder, int deformationOrder) {
   examples::ExampleSet reduced = set;
   for (examples::Example& e : reduced.examples) {
-    e.rho = truncated(e.rho, siteOrder, "rho");
-    e.mu = truncated(e.mu, deformationOrder, "mu");
+    e.rho = truncatedMoments(e.rho, siteOrder);
+    e.mu = truncatedMoments(e.mu, deformationOrder);
   }
   return reduced;
 }

@@ -1,132 +1,19 @@
 // Integration test of the enrichment node's ROS contract against a real master (run by rostest with the
 // node as a separate process or as a nodelet): outputs, headers, frames, and every bad-input case is
 // logged on /rosout and survived with the last good state kept.
-#include <gtest/gtest.h>
-#include <diagnostic_msgs/DiagnosticArray.h>
-#include <geometry_msgs/PoseStamped.h>
-#include <ros/ros.h>
-#include <rosgraph_msgs/Log.h>
-#include <visualization_msgs/MarkerArray.h>
-
 #include <filesystem>
 #include <fstream>
-#include <functional>
-#include <limits>
-#include <mutex>
 #include <set>
 
-#include "deformation_enrichment/EnrichmentStatus.h"
-#include "deformation_enrichment/LoadExampleSet.h"
 #include "deformation_enrichment/SegmentSites.h"
-#include "deformation_enrichment/enrichment/contact_enricher.hpp"
-#include "deformation_enrichment/examples/example_set_io.hpp"
-#include "deformation_enrichment/ToolContactArray.h"
-#include "deformation_enrichment/mesh/grid_tet_mesh.hpp"
-#include "deformation_enrichment/mesh/tet_surface.hpp"
-#include "deformation_enrichment/ros/conversions.hpp"
-
-namespace de = deformation_enrichment;
-using de::ros_layer::cloudFromPositions;
+#include "enrichment_node_fixture.hpp"
 
 namespace {
 
-de::mesh::TriangleMesh slabSurface(int cells) {
-  return de::mesh::extractSurface(de::mesh::gridTetMesh(Eigen::Vector3d(-0.05, -0.05, 0), Eigen::Vector3d(0.05, 0.05, 0.02),
-                                                        Eigen::Vector3i(cells, cells, 1)))
-      .surface;
-}
-
-class EnrichmentNodeTest : public ::testing::Test {
-protected:
-  void SetUp() override {
-    restPub_ = nh_.advertise<pcl_msgs::PolygonMesh>("rest_mesh", 1, true);
-    statePub_ = nh_.advertise<sensor_msgs::PointCloud2>("mesh_state", 10);
-    contactsPub_ = nh_.advertise<de::ToolContactArray>("contacts", 10);
-    posePub_ = nh_.advertise<geometry_msgs::PoseStamped>("tool_pose", 10);
-    enrichedSub_ = nh_.subscribe("enriched_mesh_state", 10, &EnrichmentNodeTest::onEnriched, this);
-    statusSub_ = nh_.subscribe("enrichment/status", 10, &EnrichmentNodeTest::onStatus, this);
-    logSub_ = nh_.subscribe("/rosout", 100, &EnrichmentNodeTest::onLog, this);
-    // Messages published before a connection exists are lost: wait for every connection.
-    ASSERT_TRUE(waitFor([&] {
-      return statePub_.getNumSubscribers() > 0 && contactsPub_.getNumSubscribers() > 0 &&
-             posePub_.getNumSubscribers() > 0 && restPub_.getNumSubscribers() > 0 &&
-             enrichedSub_.getNumPublishers() > 0 && statusSub_.getNumPublishers() > 0 &&
-             logSub_.getNumPublishers() >= 2;  // this test and the enrichment node (or its manager)
-    }, 20.0))
-        << "the enrichment node did not come up";
-    setRest(slabSurface(8));
-  }
-
-  static bool waitFor(const std::function<bool()>& condition, double seconds) {
-    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-    while (ros::ok() && ros::WallTime::now() < end) {
-      ros::spinOnce();
-      if (condition()) return true;
-      ros::WallDuration(0.005).sleep();
-    }
-    ros::spinOnce();
-    return condition();
-  }
-
-  std_msgs::Header header() {
-    std_msgs::Header h;
-    h.frame_id = "slab";
-    h.stamp = ros::Time(1000 + (++stampCounter_), 12345);  // unique per message
-    return h;
-  }
-
-  /// Publishes a state and returns whether an enriched state with its stamp arrived within `seconds`.
-  bool roundTrip(const sensor_msgs::PointCloud2& cloud, double seconds = 3.0) {
-    statePub_.publish(cloud);
-    return waitFor([&] { return findEnriched(cloud.header.stamp) != nullptr; }, seconds);
-  }
-
-  sensor_msgs::PointCloud2ConstPtr findEnriched(const ros::Time& stamp) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    for (const auto& m : enriched_)
-      if (m->header.stamp == stamp) return m;
-    return nullptr;
-  }
-
-  void setRest(const de::mesh::TriangleMesh& rest) {
-    rest_ = rest;
-    restPub_.publish(de::ros_layer::messageFromTriangleMesh(rest, header()));
-    // The new rest mesh is active once a state of its size goes through.
-    ASSERT_TRUE(waitFor([&] { return roundTrip(goodState(), 0.3); }, 20.0)) << "rest mesh never became active";
-  }
-
-  sensor_msgs::PointCloud2 goodState() { return cloudFromPositions(rest_.vertices.cast<float>(), header()); }
-
-  bool logged(const std::string& fragment, double seconds = 3.0) {
-    return waitFor([&] {
-      std::lock_guard<std::mutex> lock(mutex_);
-      for (const auto& log : logs_)
-        if (log.level >= rosgraph_msgs::Log::ERROR && log.msg.find(fragment) != std::string::npos) return true;
-      return false;
-    }, seconds);
-  }
-
-  /// A bad state is dropped (no output with its stamp), logged with `fragment`, and the node survives.
-  void expectDroppedAndSurvived(const sensor_msgs::PointCloud2& bad, const std::string& fragment) {
-    EXPECT_FALSE(roundTrip(bad, 1.0)) << "a bad state was published: " << fragment;
-    EXPECT_TRUE(logged(fragment)) << "no error on /rosout containing '" << fragment << "'";
-    EXPECT_TRUE(roundTrip(goodState())) << "the node did not recover after: " << fragment;
-  }
-
-  void onEnriched(const sensor_msgs::PointCloud2ConstPtr& m) { std::lock_guard<std::mutex> l(mutex_); enriched_.push_back(m); }
-  void onStatus(const de::EnrichmentStatusConstPtr& m) { std::lock_guard<std::mutex> l(mutex_); statuses_.push_back(m); }
-  void onLog(const rosgraph_msgs::Log& m) { std::lock_guard<std::mutex> l(mutex_); logs_.push_back(m); }
-
-  ros::NodeHandle nh_;
-  ros::Publisher restPub_, statePub_, contactsPub_, posePub_;
-  ros::Subscriber enrichedSub_, statusSub_, logSub_;
-  std::mutex mutex_;
-  std::vector<sensor_msgs::PointCloud2ConstPtr> enriched_;
-  std::vector<de::EnrichmentStatusConstPtr> statuses_;
-  std::vector<rosgraph_msgs::Log> logs_;
-  de::mesh::TriangleMesh rest_;
-  uint32_t stampCounter_ = 0;
-};
+using de::ros_layer::cloudFromPositions;
+using enrichment_test::EnrichmentNodeTest;
+using enrichment_test::makeDentExampleSet;
+using enrichment_test::slabSurface;
 
 TEST_F(EnrichmentNodeTest, EnrichedStateKeepsStampFrameLayoutAndStatusFollows) {
   const sensor_msgs::PointCloud2 cloud = goodState();
@@ -283,34 +170,6 @@ TEST_F(EnrichmentNodeTest, SegmentSitesLabelsEveryVertexSymmetricallyAndRejectsB
   EXPECT_FALSE(call.response.success);
   EXPECT_FALSE(call.response.message.empty());
   EXPECT_TRUE(roundTrip(goodState())) << "the node must keep enriching after a failed segmentation";
-}
-
-/// A one-example set made with the package's own pipeline on `rest`: a dent at the top centre, stamp 1 mm
-/// inwards. Returns the dented state; writes the set to `directory`.
-Eigen::Matrix3Xd makeDentExampleSet(const de::mesh::TriangleMesh& rest, const std::string& directory) {
-  Eigen::Matrix3Xd dented = rest.vertices;
-  for (Eigen::Index v = 0; v < dented.cols(); ++v)
-    dented(2, v) -= 0.002 * std::exp(-dented.col(v).head<2>().squaredNorm() / (2 * 0.008 * 0.008)) * dented(2, v) / 0.02;
-  de::enrichment::ContactEnricherOptions options;
-  options.descriptors.window.scale = 0.006;
-  options.stampRadius = 0.02;
-  const de::enrichment::ContactEnricher describer(rest, options);
-  de::enrichment::Contact contact;
-  contact.point = Eigen::Vector3d(0, 0, 0.02);
-  const auto description = describer.describe(dented, contact);
-  de::examples::Example example;
-  example.contact = description.p;
-  example.frame = description.B;
-  example.rho = description.rho;
-  example.mu = description.mu;
-  example.stamp = cv::Mat(64, 64, CV_32FC3, cv::Scalar(0.0f, 0.0f, -0.001f));
-  example.stampRadius = 0.02;
-  de::examples::ExampleSet set;
-  set.metadata.scene = "rostest";
-  set.metadata.material["window_scale_m"] = 0.006;
-  set.examples.push_back(example);
-  de::examples::saveExampleSet(set, directory);
-  return dented;
 }
 
 TEST_F(EnrichmentNodeTest, ExampleSetEnrichesOnlyAtTheContactSurvivesACorruptSetAndFadesOnLiftOff) {

@@ -89,6 +89,13 @@ public:
   bool hasExamples() const { return blender_ != nullptr; }
   const ExampleBlender* blender() const { return blender_.get(); }
   void setStampGain(double gain);
+  /// Kernel widths of eq. (15) for the active set (run-time knob): a positive width replaces the current
+  /// one, 0 or a negative one restores the width the set was loaded with (leave-one-out fitted, or given).
+  /// Rebuilds the RBF interpolator, O(N^3) in the examples. Throws InvalidInputError without examples or
+  /// for a non-finite width; the old widths stay then.
+  void setKernelWidths(double sigmaRho, double sigmaU);
+  /// The widths the active set was loaded with (before any setKernelWidths).
+  const KernelWidths& loadedWidths() const { return loadedWidths_; }
 
   /// Descriptors at one contact for the current surface positions (3 x size()). Throws InvalidInputError
   /// for wrong sizes, NaN, or a contact with no surface vertex within the window cut-off.
@@ -113,7 +120,8 @@ private:
   std::unique_ptr<descriptors::DescriptorEvaluator> siteEvaluator_;  // interior sampling (rho, normals)
   std::unique_ptr<descriptors::PointSampling> surfaceSampling_;      // surface vertices, area weights (mu)
   mutable std::vector<std::optional<hermite::MomentList>> siteCache_;  // rho (world axes) per rest vertex
-  std::shared_ptr<const ExampleBlender> blender_;
+  std::shared_ptr<ExampleBlender> blender_;
+  KernelWidths loadedWidths_;     // of the active set, as fitted at load
   std::vector<cv::Mat> stamps_;   // the active set's stamps (magnitude-aware blending)
   Eigen::VectorXd muNorms_;       // |mu[i]| of the active set
   StampMapper mapper_;

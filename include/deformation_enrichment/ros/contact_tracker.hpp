@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "deformation_enrichment/ToolContactArray.h"
+#include "deformation_enrichment/ros/tool_tip.hpp"
 
 namespace deformation_enrichment::ros_layer {
 
@@ -29,11 +30,17 @@ public:
   /// a frame tf cannot transform); then the previous contacts stay.
   void updateFromArray(const ToolContactArray& message, const std::string& meshFrame);
 
-  /// Derives the contact of one tool from its tip pose: in contact when the tip lies within
-  /// `contactDistance` of a surface vertex; the normal is that vertex's rest normal. Throws like above.
+  /// Derives the contact of one tool from the pose of its tip link: in contact when the surface comes
+  /// within `contactDistance` of the tip's surface (signed distance, so also when it cuts into the tip); the
+  /// contact is the surface point closest to (deepest in) the tip, its normal the rest normal of the
+  /// surface vertex nearest to it. A point tip is the pose's position. With `triangles` (the surface's
+  /// topology) the surface is its triangles: every triangle with a vertex within contactDistance + its
+  /// longest edge of the tip (a superset of those that can be within contactDistance, the signed distance
+  /// being 1-Lipschitz) is measured exactly; without, the surface is its vertices. Throws like above.
   void updateFromToolPose(const geometry_msgs::PoseStamped& pose, const std::string& toolId,
                           const std::string& meshFrame, const Eigen::Matrix3Xf& surface,
-                          const Eigen::Matrix3Xd& restNormals, double contactDistance);
+                          const Eigen::Matrix3Xd& restNormals, double contactDistance, const ToolTip& tip = {},
+                          const Eigen::Matrix3Xi* triangles = nullptr);
 
   /// Contacts in contact and not older than the staleness limit at `now`. A clock that jumped backwards
   /// (a rosbag loop) clears everything.
@@ -45,6 +52,7 @@ private:
   const tf2_ros::Buffer& tf_;
   ros::Duration staleAfter_;
   std::map<std::string, TrackedContact> contacts_;  // by tool id; only tools in contact
+  Eigen::ArrayXf vertexBound_;                      // scratch: lower bound of the tip distance per vertex
   ros::Time latestStamp_;
 };
 

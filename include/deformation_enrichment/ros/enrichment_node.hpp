@@ -4,6 +4,7 @@
 // The same class runs as the standalone enrichment_node and inside EnrichmentNodelet.
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <diagnostic_updater/publisher.h>
+#include <dynamic_reconfigure/server.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <pcl_msgs/PolygonMesh.h>
 #include <ros/callback_queue.h>
@@ -17,6 +18,8 @@
 #include <optional>
 #include <string>
 
+#include "deformation_enrichment/EnrichmentConfig.h"
+#include "deformation_enrichment/EnrichmentStatus.h"
 #include "deformation_enrichment/LoadExampleSet.h"
 #include "deformation_enrichment/SegmentSites.h"
 #include "deformation_enrichment/ToolContactArray.h"
@@ -26,8 +29,16 @@
 #include "deformation_enrichment/ros/contact_tracker.hpp"
 #include "deformation_enrichment/ros/enrichment_markers.hpp"
 #include "deformation_enrichment/ros/site_regions.hpp"
+#include "deformation_enrichment/ros/tool_tip.hpp"
 
 namespace deformation_enrichment::ros_layer {
+
+/// The run-time knobs (dynamic_reconfigure, cfg/Enrichment.cfg) as requested.
+struct EnrichmentKnobs {
+  double stampGain = 1.0;
+  double sigmaRho = 0.0, sigmaU = 0.0;  ///< <= 0: the set's leave-one-out fitted width
+  int hermiteOrder = 0;                 ///< 0: the order the set was built with
+};
 
 class EnrichmentNode {
 public:
@@ -45,9 +56,18 @@ private:
   bool onLoadExampleSet(LoadExampleSet::Request& request, LoadExampleSet::Response& response);
   /// Loads a set and (if a rest mesh is there) builds the enricher for it; throws, leaving the old ones.
   void loadExampleSet(const std::string& path);
-  /// A new ContactEnricher for `rest` configured from `set` (window scale and stamp radius of the set).
-  std::unique_ptr<enrichment::ContactEnricher> makeEnricher(const mesh::TriangleMesh& rest,
-                                                            const examples::ExampleSet& set) const;
+  /// A new ContactEnricher for `rest` configured from `set` (window scale, stamp radius and Hermite order
+  /// of the set) and the knobs (a Hermite order above the set's is clamped to it; the caller refuses it).
+  std::unique_ptr<enrichment::ContactEnricher> makeEnricher(const mesh::TriangleMesh& rest, const examples::ExampleSet& set,
+                                                            const EnrichmentKnobs& knobs) const;
+  /// Builds the enricher for `set` and `knobs` outside the lock (the enrichment goes on meanwhile) and
+  /// installs both; throws on failure, leaving everything as it was. Service thread only.
+  void installEnricher(examples::ExampleSet set, const EnrichmentKnobs& knobs);
+  void onReconfigure(EnrichmentConfig& config, uint32_t level);
+  /// Reads ~tool_tip_link's collision geometry from robot_description (point tip without them).
+  void loadToolTip();
+  /// Whether the state's data, the contacts and the configuration equal those of the last enriched state.
+  bool unchanged(const sensor_msgs::PointCloud2& message, const std::vector<TrackedContact>& active) const;
 
   void setRestMesh(mesh::TriangleMesh rest, const std::string& source);
   /// Logs (throttled per input and kind of problem) why an input was dropped, and counts it.
@@ -62,7 +82,9 @@ private:
   std::string toolPoseId_;
   double toolContactDistance_ = 0.003;
   double errorThrottle_ = 1.0;
-  double stampGain_ = 1.0;  // [s] between error logs of one input and kind of problem
+  EnrichmentKnobs knobs_;  // requested run-time knobs (guarded by mutex_)
+  ToolTip toolTip_;
+  std::string toolTipStatus_;
   MarkerOptions markerOptions_;
   SiteSegmentationParameters segmentation_;
 
@@ -72,6 +94,8 @@ private:
   ros::CallbackQueue serviceQueue_;
   std::unique_ptr<ros::AsyncSpinner> serviceSpinner_;
   ros::ServiceServer segmentSitesService_, loadExampleSetService_;
+  boost::recursive_mutex reconfigureMutex_;
+  std::unique_ptr<dynamic_reconfigure::Server<EnrichmentConfig>> reconfigureServer_;
   ros::Timer markerTimer_, diagnosticsTimer_;
   diagnostic_updater::Updater diagnostics_;
   double minRate_ = 1.0, maxRate_ = 1000.0;
@@ -87,9 +111,16 @@ private:
   sensor_msgs::PointCloud2ConstPtr lastInput_;     // last good mesh state
   sensor_msgs::PointCloud2ConstPtr lastEnriched_;  // what was published for it
   Eigen::Matrix3Xf lastPositions_, lastEnrichedPositions_;
+  // Unchanged-input reuse: what the last enriched state was computed from, and its status.
+  uint64_t restVersion_ = 0;    // bumped by every new rest mesh
+  uint64_t configVersion_ = 0;  // bumped by every new enricher, set or knob value
+  bool lastWasEnriched_ = false;
+  uint64_t lastConfigVersion_ = 0;
+  std::vector<TrackedContact> lastContacts_;
+  EnrichmentStatus lastStatus_;
 
   // Statistics for diagnostics.
-  uint64_t statesIn_ = 0, statesOut_ = 0;
+  uint64_t statesIn_ = 0, statesOut_ = 0, statesReused_ = 0;
   std::map<std::string, uint64_t> dropped_;  // by input name
   std::string lastError_;
   double lastComputeMs_ = 0.0, maxComputeMs_ = 0.0;

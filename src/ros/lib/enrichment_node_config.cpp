@@ -1,0 +1,173 @@
+// The enrichment node's configuration at run time: example sets, the dynamically reconfigurable knobs
+// (stamp gain, kernel widths, Hermite order) and the tool tip geometry from robot_description.
+// Slow work (building an enricher: interior sampling, leave-one-out width fit) runs on the service thread
+// outside the frame lock; the finished enricher is swapped in under it, so a change applies from the next
+// mesh state on.
+#include <algorithm>
+
+#include "deformation_enrichment/enrichment/descriptor_order.hpp"
+#include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/examples/example_set_io.hpp"
+#include "deformation_enrichment/ros/enrichment_node.hpp"
+
+namespace deformation_enrichment::ros_layer {
+
+std::unique_ptr<enrichment::ContactEnricher> EnrichmentNode::makeEnricher(const mesh::TriangleMesh& rest,
+                                                                          const examples::ExampleSet& set,
+                                                                          const EnrichmentKnobs& knobs) const {
+  enrichment::ContactEnricherOptions options;
+  options.descriptors.window.scale = segmentation_.scale;
+  options.sampleSpacing = segmentation_.sampleSpacing;
+  // Describe contacts exactly as the examples were described: their window scale and interior sampling.
+  const auto h = set.metadata.material.find("window_scale_m");
+  if (h != set.metadata.material.end()) options.descriptors.window.scale = h->second;
+  const auto spacing = set.metadata.material.find("site_sample_spacing_m");
+  if (spacing != set.metadata.material.end()) options.sampleSpacing = spacing->second;
+  // The run time computes the descriptors with the orders the examples store (a lower mu order by knob).
+  const int built = enrichment::deformationOrder(set);
+  const int order = knobs.hermiteOrder > 0 ? std::min(knobs.hermiteOrder, built) : built;
+  options.descriptors.deformationOrder = order;
+  options.descriptors.siteOrder = set.examples.front().rho.lastOrder();
+  options.stampRadius = set.examples.front().stampRadius;
+  options.stampGain = knobs.stampGain;
+  auto enricher = std::make_unique<enrichment::ContactEnricher>(rest, options);
+  // Truncated mu: the leave-one-out widths are fitted for the descriptors actually compared.
+  enricher->setExamples(enrichment::withDeformationOrder(set, order));
+  enricher->setKernelWidths(knobs.sigmaRho, knobs.sigmaU);
+  return enricher;
+}
+
+void EnrichmentNode::installEnricher(examples::ExampleSet set, const EnrichmentKnobs& knobs) {
+  std::optional<mesh::TriangleMesh> rest;
+  uint64_t restVersion = 0;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    rest = rest_;
+    restVersion = restVersion_;
+  }
+  // Built outside the lock (interior sampling, kernel-width fitting): the enrichment goes on meanwhile.
+  std::unique_ptr<enrichment::ContactEnricher> enricher = rest ? makeEnricher(*rest, set, knobs) : nullptr;
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (restVersion_ != restVersion) enricher = rest_ ? makeEnricher(*rest_, set, knobs) : nullptr;  // rest changed meanwhile
+  exampleSet_ = std::move(set);
+  enricher_ = std::move(enricher);
+  knobs_ = knobs;
+  ++configVersion_;
+}
+
+void EnrichmentNode::loadExampleSet(const std::string& path) {
+  // One configuration change at a time (reconfigure callbacks hold this mutex too).
+  boost::recursive_mutex::scoped_lock configLock(reconfigureMutex_);
+  examples::ExampleSet set = examples::loadExampleSet(path);
+  if (set.examples.empty()) throw InvalidInputError("example set '" + path + "' has no examples");
+  const int built = enrichment::deformationOrder(set);
+  EnrichmentKnobs knobs;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    knobs = knobs_;
+  }
+  if (knobs.hermiteOrder > built)
+    ROS_WARN("example set '%s' stores deformation moments up to order %d: hermite_order %d runs at %d", path.c_str(),
+             built, knobs.hermiteOrder, built);
+  installEnricher(std::move(set), knobs);
+  ROS_INFO("example set '%s' active: %zu examples, Hermite order %d", path.c_str(), exampleSet_->examples.size(),
+           std::min(built, knobs.hermiteOrder > 0 ? knobs.hermiteOrder : built));
+}
+
+bool EnrichmentNode::onLoadExampleSet(LoadExampleSet::Request& request, LoadExampleSet::Response& response) {
+  try {
+    loadExampleSet(request.path);
+    std::lock_guard<std::mutex> lock(mutex_);
+    response.success = true;
+    response.num_examples = static_cast<uint32_t>(exampleSet_->examples.size());
+    response.message = "loaded " + std::to_string(response.num_examples) + " examples";
+  } catch (const Error& e) {
+    response.success = false;
+    response.message = e.what();
+    std::lock_guard<std::mutex> lock(mutex_);
+    response.num_examples = exampleSet_ ? static_cast<uint32_t>(exampleSet_->examples.size()) : 0;
+    ROS_ERROR("load_example_set '%s' rejected, the previous set stays active: %s", request.path.c_str(), e.what());
+  }
+  return true;
+}
+
+void EnrichmentNode::onReconfigure(EnrichmentConfig& config, uint32_t /*level*/) {
+  EnrichmentKnobs requested{config.stamp_gain, config.sigma_rho, config.sigma_u, config.hermite_order};
+  EnrichmentKnobs old;
+  std::optional<examples::ExampleSet> set;
+  int activeOrder = 0;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    old = knobs_;
+    set = exampleSet_;  // stamps are shared cv::Mat headers: cheap
+    if (enricher_) activeOrder = enricher_->options().descriptors.deformationOrder;
+  }
+  if (set) {
+    const int built = enrichment::deformationOrder(*set);
+    if (requested.hermiteOrder > built) {
+      ROS_ERROR("hermite_order %d refused: the active example set stores deformation moments up to order %d only "
+                "(keeping hermite_order %d)", requested.hermiteOrder, built, old.hermiteOrder);
+      requested.hermiteOrder = old.hermiteOrder;
+      config.hermite_order = old.hermiteOrder;
+    }
+    const int order = requested.hermiteOrder > 0 ? requested.hermiteOrder : built;
+    if (activeOrder != 0 && order != activeOrder) {
+      try {  // new descriptors on both sides: a new enricher, widths fitted again for them
+        installEnricher(std::move(*set), requested);
+        ROS_INFO("Hermite order of the deformation descriptor now %d (set built with %d)", order, built);
+      } catch (const Error& e) {
+        ROS_ERROR("hermite_order %d refused: %s (keeping hermite_order %d)", requested.hermiteOrder, e.what(),
+                  old.hermiteOrder);
+        requested.hermiteOrder = old.hermiteOrder;
+        config.hermite_order = old.hermiteOrder;
+      }
+    }
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  try {
+    if (enricher_) {
+      enricher_->setStampGain(requested.stampGain);
+      enricher_->setKernelWidths(requested.sigmaRho, requested.sigmaU);  // O(N^3) in the examples: cheap
+    }
+    knobs_ = requested;
+  } catch (const Error& e) {
+    ROS_ERROR("reconfiguration refused: %s (keeping stamp_gain %g, sigma_rho %g, sigma_u %g)", e.what(), old.stampGain,
+              old.sigmaRho, old.sigmaU);
+    if (enricher_) {
+      enricher_->setStampGain(old.stampGain);
+      enricher_->setKernelWidths(old.sigmaRho, old.sigmaU);
+    }
+    knobs_.stampGain = old.stampGain;
+    knobs_.sigmaRho = old.sigmaRho;
+    knobs_.sigmaU = old.sigmaU;
+    config.stamp_gain = old.stampGain;
+    config.sigma_rho = old.sigmaRho;
+    config.sigma_u = old.sigmaU;
+  }
+  ++configVersion_;  // the next state is computed afresh
+}
+
+void EnrichmentNode::loadToolTip() {
+  const std::string link = privateNh_.param<std::string>("tool_tip_link", "");
+  if (link.empty()) {
+    toolTipStatus_ = toolTip_.description();
+    return;
+  }
+  std::string key, urdf;
+  if (!privateNh_.searchParam("robot_description", key) || !privateNh_.getParam(key, urdf)) {
+    toolTipStatus_ = "point (no robot_description for ~tool_tip_link '" + link + "')";
+    ROS_WARN("~tool_tip_link '%s' is set but there is no robot_description: the tool pose position is the tip",
+             link.c_str());
+    return;
+  }
+  try {
+    toolTip_ = toolTipFromUrdf(urdf, link);
+    toolTipStatus_ = toolTip_.description();
+    ROS_INFO("tool tip: %s", toolTipStatus_.c_str());
+  } catch (const Error& e) {
+    toolTipStatus_ = std::string("point (robot_description rejected: ") + e.what() + ")";
+    ROS_ERROR("tool tip from robot_description rejected: %s; the tool pose position is the tip", e.what());
+  }
+}
+
+}  // namespace deformation_enrichment::ros_layer
