@@ -98,7 +98,10 @@ private:
       if (options.reduced) options.subspaceDimension = static_cast<int>(request.subspace);
       ss::SmoothingFlow flow(energy, std::move(input), options);
       response.path_energy.push_back(flow.pathEnergy());
-      for (uint32_t k = 0; k < request.iterations; ++k) response.path_energy.push_back(flow.step().pathEnergy);
+      for (uint32_t k = 0; k < request.iterations; ++k) {
+        const double controlled = flow.step().pathEnergy;  // of the ghost shapes if a ghost mesh is used
+        response.path_energy.push_back(flow.ghostVertices() > 0 ? flow.pathEnergy() : controlled);
+      }
       for (size_t i = 0; i < request.shapes.size(); ++i)
         response.shapes.push_back(cloud(flow.current().shapes[i], request.shapes[i].header));
     });

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <memory>
 #include <cmath>
 #include <string>
 #include <tuple>
@@ -265,6 +266,13 @@ void DiscreteShells::buildHessianPattern() {
   }
   pattern_.zeros.makeCompressed();
   pattern_.outer.assign(pattern_.zeros.outerIndexPtr(), pattern_.zeros.outerIndexPtr() + dofs + 1);
+}
+
+std::unique_ptr<DeformationEnergy> DiscreteShells::onTriangles(const Eigen::Matrix3Xi& triangles,
+                                                               Eigen::Index numVertices) const {
+  auto energy = std::make_unique<DiscreteShells>(triangles, numVertices, parameters_);
+  energy->setThreadCount(threads_);
+  return energy;
 }
 
 void DiscreteShells::setThreadCount(int threads) {

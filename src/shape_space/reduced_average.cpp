@@ -92,7 +92,9 @@ AverageResult reducedElasticAverage(const DeformationEnergy& energy, const std::
                          " iterations (reduced gradient norm " + std::to_string(gnorm) + ", tolerance " +
                          std::to_string(tolerance) + (failure.empty() ? "" : ", " + failure) + ")");
   AverageResult result;
-  result.shape = lift(z);
+  result.reducedCoordinates = lower.transpose().triangularView<Eigen::Upper>().solve(z);
+  result.shape = sub.lift(result.reducedCoordinates);
+  result.evaluations = evaluations;
   result.objective = fEnd;
   result.iterations = iterations;
   return result;

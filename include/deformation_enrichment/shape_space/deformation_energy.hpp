@@ -2,6 +2,8 @@
 // Deformation energy W[x_bar, x] between a reference (undeformed) shape x_bar and a deformed shape x over
 // one fixed topology (paper 004 §3: the dissimilarity measure of shape space). Shapes are flat vectors of
 // size 3V, xyz per vertex: (x_0, y_0, z_0, x_1, ...). The energy is not symmetric in its arguments.
+#include <memory>
+
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
@@ -52,6 +54,10 @@ public:
   /// calls the single-output methods one by one; implementations override it to share one pass.
   virtual void evaluate(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed,
                         const EnergyOutputs& outputs) const;
+
+  /// The same energy (same parameters) over another triangle topology of numVertices vertices, e.g. a ghost
+  /// mesh (ghost_mesh.hpp). The default throws InvalidInputError: not every energy has one.
+  virtual std::unique_ptr<DeformationEnergy> onTriangles(const Eigen::Matrix3Xi& triangles, Eigen::Index numVertices) const;
 
 protected:
   /// Throws InvalidInputError naming the argument if a shape has the wrong size or a non-finite entry.

@@ -98,6 +98,9 @@ public:
   void evaluate(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed,
                 const EnergyOutputs& outputs) const override;
 
+  /// DiscreteShells with the same parameters and thread count over `triangles`.
+  std::unique_ptr<DeformationEnergy> onTriangles(const Eigen::Matrix3Xi& triangles, Eigen::Index numVertices) const override;
+
   /// Membrane and bending parts separately (bending already multiplied by bendingWeight).
   double membraneValue(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const;
   double bendingValue(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const;
