@@ -42,4 +42,9 @@ std::unique_ptr<DeformationEnergy> DeformationEnergy::onTriangles(const Eigen::M
   throw InvalidInputError("DeformationEnergy: this energy cannot be evaluated on another mesh (no ghost mesh)");
 }
 
+std::unique_ptr<WeightedReferenceEnergy> DeformationEnergy::weightedReferences(
+    const std::vector<double>&, const std::vector<const Eigen::VectorXd*>&) const {
+  return nullptr;
+}
+
 }  // namespace deformation_enrichment::shape_space
