@@ -68,6 +68,7 @@ int main(int argc, char** argv) {
     options.closed = closed;
     options.reduced = subspace > 0;
     if (options.reduced) options.subspaceDimension = subspace;
+    options.parallelShapes = true;  // DiscreteShells is thread-safe; the Jacobi update makes shapes independent
     ss::SmoothingFlow flow(energy, std::move(sequence), options);
     std::fprintf(stderr, "de_smooth_bag: path energy %.6g\n", flow.pathEnergy());
     for (int k = 0; k < iterations; ++k) {

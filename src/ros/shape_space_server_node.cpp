@@ -96,6 +96,7 @@ private:
       options.closed = request.closed;
       options.reduced = request.subspace > 0;
       if (options.reduced) options.subspaceDimension = static_cast<int>(request.subspace);
+      options.parallelShapes = true;  // DiscreteShells is thread-safe; the Jacobi update makes shapes independent
       ss::SmoothingFlow flow(energy, std::move(input), options);
       response.path_energy.push_back(flow.pathEnergy());
       for (uint32_t k = 0; k < request.iterations; ++k) {

@@ -103,6 +103,7 @@ GeodesicResult pathEnergyGeodesic(const DeformationEnergy& energy, const Eigen::
     result.ghostVertices = ghost->numVertices();
   }
   std::vector<Eigen::VectorXd> shapes{a, b};
+  Eigen::MatrixXd carried;  // reduced: the previous level's basis
   while (int(shapes.size()) < options.shapes) {
     const int refined = std::min(options.shapes, (int(shapes.size()) - 1) * (options.insertPerSegment + 1) + 1);
     shapes = resample(shapes, refined);
@@ -113,11 +114,19 @@ GeodesicResult pathEnergyGeodesic(const DeformationEnergy& energy, const Eigen::
       result.evaluations += report.evaluations;
       result.pathEnergyHistory.push_back(pathEnergy(energy, shapes));
     } else {
-      // Subspace: PCA of the level's initial path plus the eq. 9 directions at it (paper 004 §6: coarse
-      // curves get flow directions); each round adds those at the current path.
+      // Subspace: PCA of the level's initial path plus the eq. 9 directions (paper 004 §6: coarse curves get
+      // flow directions): at the first level those at the initial path, later the previous level's basis
+      // (its tangents were taken at a solved path; new ones would cost a factorisation per shape). Each
+      // round adds the tangents at the current path.
       AffineSubspace subspace = pcaSubspace(shapes, flow.subspaceDimension);
       subspace.origin.setZero();  // only the basis is used: shape k = (its current value) + B q_k
-      enrich(subspace, pathTangents(energy, shapes));
+      if (carried.cols() == 0) {
+        enrich(subspace, pathTangents(energy, shapes));
+      } else {
+        std::vector<Eigen::VectorXd> previous;
+        for (Eigen::Index c = 0; c < carried.cols(); ++c) previous.push_back(carried.col(c));
+        enrich(subspace, previous);
+      }
       for (int round = 0;; ++round) {
         report = minimisePathEnergyReduced(energy, shapes, subspace.basis, ghost.get(), ghostEnergy.get(), solveOptions);
         result.iterations += report.iterations;
@@ -132,6 +141,7 @@ GeodesicResult pathEnergyGeodesic(const DeformationEnergy& energy, const Eigen::
         }
         if (enrich(subspace, pathTangents(energy, shapes)) == 0) break;
       }
+      carried = subspace.basis;
     }
     result.converged = report.converged;
     result.finalGradientSquaredNorm = report.gradientSquaredNorm;

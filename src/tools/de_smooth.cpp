@@ -69,6 +69,7 @@ int main(int argc, char** argv) {
     options.symmetricAverage = symmetric;
     options.weights = proportional ? ss::FlowWeights::ProportionPreserving : ss::FlowWeights::Fixed;
     options.useGhostMesh = ghost > 0;
+    options.parallelShapes = true;  // DiscreteShells is thread-safe; the Jacobi update makes shapes independent
     if (ghost > 0) options.ghostMesh.targetVertices = ghost;
     ss::SmoothingFlow flow(energy, sequence, options);
     nlohmann::json energies = nlohmann::json::array(), ghostEnergies = nlohmann::json::array();

@@ -41,7 +41,8 @@ struct FlowOptions {
   bool useGhostMesh = true;
   GhostMeshOptions ghostMesh;
   /// Solve the shapes' averages in parallel (OpenMP over shapes; meshes of >= 1000 vertices only). Needs
-  /// an energy that is safe to call from several threads (DiscreteShells is). Off: the energy parallelises.
+  /// an energy that is safe to call from several threads (DiscreteShells is). Off: the energy parallelises
+  /// (but eq. 10 averages with aggregated references, see DeformationEnergy::weightedReferences, run serially).
   bool parallelShapes = false;
   AverageOptions full;
   ReducedAverageOptions reducedSolver;
@@ -108,6 +109,7 @@ private:
   std::vector<ReducedSpace> spaces_;  ///< per shape (reduced mode), on the ghost mesh if one is used
   std::shared_ptr<const Eigen::MatrixXd> fineBasis_;  ///< reduced mode: the shared basis on the fine mesh
   std::vector<Eigen::VectorXd> fineOrigins_;          ///< reduced mode: shape i = fineOrigins_[i] + B q
+  double lastControlled_ = -1.0;  ///< controlledPathEnergy() of current_ after a step (< 0: unknown)
   std::unique_ptr<GhostMesh> ghost_;
   std::unique_ptr<DeformationEnergy> ghostEnergy_;
   std::vector<Eigen::VectorXd> extraDirections_;
