@@ -9,6 +9,7 @@
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
 #include "deformation_enrichment/shape_space/ghost_mesh.hpp"
+#include "deformation_enrichment/shape_space/smoothing_flow.hpp"
 #include "flow_test_sequences.hpp"
 
 namespace ss = deformation_enrichment::shape_space;
@@ -146,4 +147,37 @@ TEST(GhostMesh, BadInputGivesClearErrors) {
   Eigen::VectorXd collapsed = fine.vertices;  // triangle 0 (vertices 0, 1, 7) squashed to a line
   collapsed.segment<3>(3 * 7) = 0.5 * (collapsed.segment<3>(0) + collapsed.segment<3>(3));
   EXPECT_THROW(ss::ghostMesh(fine.triangles, collapsed, {}), de::InvalidInputError);
+}
+
+TEST(GhostMesh, ReducedFlowStepOnTheGhostLowersTheFinePathEnergyLikeTheExactStep) {
+  const FlatMesh base = bumpyGrid(25, 2);  // 625 vertices; the ghost has 200
+  ss::DiscreteShells energy(base.triangles, base.vertices.size() / 3);
+  energy.setThreadCount(1);
+  const ss::ShapeSequence input{base.triangles, noisyBending(base, 6, 0.3, 1.5, 0.004, 3)};
+  ss::FlowOptions exact;
+  exact.reduced = true;
+  exact.subspaceDimension = 6;
+  exact.useGhostMesh = false;
+  ss::FlowOptions ghost = exact;
+  ghost.useGhostMesh = true;
+  ghost.ghostMesh.targetVertices = 200;
+  ss::SmoothingFlow exactFlow(energy, input, exact), ghostFlow(energy, input, ghost);
+  EXPECT_EQ(exactFlow.ghostVertices(), 0);
+  EXPECT_GT(ghostFlow.ghostVertices(), 150);
+  const double before = exactFlow.pathEnergy();
+  EXPECT_EQ(ghostFlow.pathEnergy(), before);  // pathEnergy() is always the fine eq. 4
+  for (int k = 0; k < 2; ++k) {
+    const double controlled = ghostFlow.controlledPathEnergy();
+    const ss::FlowStep step = ghostFlow.step();
+    EXPECT_FALSE(step.stalled);
+    EXPECT_LT(step.pathEnergy, controlled);  // the step control lowers the ghost's eq. 4
+    EXPECT_DOUBLE_EQ(step.pathEnergy, ghostFlow.controlledPathEnergy());
+    exactFlow.step();
+  }
+  const double exactDrop = before - exactFlow.pathEnergy(), ghostDrop = before - ghostFlow.pathEnergy();
+  EXPECT_GT(ghostDrop, 0.5 * exactDrop) << "exact " << exactDrop << " ghost " << ghostDrop;
+  EXPECT_LT(ghostDrop, 1.5 * exactDrop) << "exact " << exactDrop << " ghost " << ghostDrop;
+  // The ghost only approximates energies: the shapes stay fine shapes (the ends are untouched).
+  EXPECT_EQ(ghostFlow.current().shapes.front(), input.shapes.front());
+  EXPECT_EQ(ghostFlow.current().shapes[2].size(), input.shapes[2].size());
 }
