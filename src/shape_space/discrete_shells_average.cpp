@@ -184,10 +184,10 @@ public:
         value += hinge.omega * d * d;
         continue;
       }
-      const HingeAngle theta = dihedralAngleDerivatives(x[0], x[1], x[2], x[3], false);
-      const double d = std::remainder(theta.theta - hinge.theta, 2.0 * M_PI);
+      const double d = std::remainder(dihedralAngle(x[0], x[1], x[2], x[3]) - hinge.theta, 2.0 * M_PI);
       value += hinge.omega * d * d;
-      for (int a = 0; a < 4; ++a) gradient->segment<3>(3 * v[a]) += 2.0 * hinge.omega * d * theta.gradient.segment<3>(3 * a);
+      const Eigen::Matrix<double, 12, 1> dTheta = dihedralAngleGradient(x[0], x[1], x[2], x[3]);
+      for (int a = 0; a < 4; ++a) gradient->segment<3>(3 * v[a]) += 2.0 * hinge.omega * d * dTheta.segment<3>(3 * a);
     }
     return value;
   }
