@@ -57,6 +57,20 @@ TEST(GeodesicPath, PathEnergyGradientMatchesFiniteDifferences) {
   }
 }
 
+// pathTangents, flowTangents and the reduced Hessian model rely on d1d1 W(x, x) = d2d2 W(x, x) = -d1d2 W(x, x).
+TEST(GeodesicPath, HessianBlocksAgreeAtTheIdentity) {
+  const FlatMesh mesh = bumpyGrid(6, 8);
+  for (const auto& parameters : {ss::DiscreteShellsParameters::classic(), ss::DiscreteShellsParameters::hyperelastic()}) {
+    const ss::DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, parameters);
+    const Eigen::VectorXd x = perturbed(mesh.vertices, 0.02, 3);
+    const Eigen::MatrixXd hd = Eigen::MatrixXd(energy.hessianDeformed(x, x));
+    const Eigen::MatrixXd hr = Eigen::MatrixXd(energy.hessianReference(x, x));
+    const Eigen::MatrixXd hm = Eigen::MatrixXd(energy.hessianMixed(x, x));
+    EXPECT_LT((hr - hd).norm(), 1e-9 * hd.norm());
+    EXPECT_LT((hm + hd).norm(), 1e-9 * hd.norm());
+  }
+}
+
 TEST(GeodesicPath, FullNewtonReachesAStationaryPathBelowTheInitialAndTheFlows) {
   PathSetup s;
   std::vector<Eigen::VectorXd> path = s.interpolation(5);
