@@ -141,7 +141,7 @@ public:
       if (degenerate(x))
         throw InvalidInputError("DiscreteShells: triangle " + std::to_string(t) + " of the deformed shape is degenerate");
       const Face& f = faces_[size_t(t)];
-      LocalTerm<3> term(need);
+      LocalTerm<3> term(need | detail::kGradientDeformed);  // zeroed either way: read only with a gradient
       if (hyperelastic_) {
         detail::addSquaredLengthTerm<3, 3, 0>(
             [&f](const auto& q) {
@@ -164,7 +164,7 @@ public:
     for (size_t e = 0; e < edges_.size(); ++e) {
       const Eigen::Vector2i v = shells_.edges()[e];
       const Edge& coefficients = edges_[e];
-      LocalTerm<2> term(need);
+      LocalTerm<2> term(need | detail::kGradientDeformed);
       detail::addSquaredLengthTerm<2, 1, 0>(
           [&coefficients](const auto& q) {
             using std::sqrt;
