@@ -26,22 +26,24 @@ struct GeodesicSetup {
 TEST(Geodesic, RigidlyMovedCopyIsJoinedByTheRigidPath) {
   GeodesicSetup s;
   const Eigen::VectorXd b = moved(s.a, someRotation(1.1), Eigen::Vector3d(0.5, 1.0, -2.0));
-  for (const auto solver : {ss::GeodesicSolver::PathEnergy, ss::GeodesicSolver::Flow})
-  for (const bool reduced : {false, true}) {
-  SCOPED_TRACE(std::string(solver == ss::GeodesicSolver::Flow ? "flow" : "path energy") + (reduced ? " reduced" : " full"));
-  ss::GeodesicOptions opt;
-  opt.shapes = 5;
-  opt.solver = solver;
-  opt.flow.reduced = reduced;
-  const ss::GeodesicResult g = ss::geodesic(s.energy, s.base.triangles, s.a, b, opt);
-  ASSERT_EQ(g.shapes.size(), 5u);
   const double scale = s.energy.value(s.a, s.b);  // a non-rigid pair for scale
-  EXPECT_LT(g.pathEnergy, 1e-12 * scale);
-  EXPECT_TRUE(g.converged);
-  for (const auto& x : g.shapes) {  // every shape is a rigid copy of a
-    const ss::RigidTransform m = ss::kabsch(s.a, x);
-    EXPECT_LT((ss::applyRigid(m, s.a) - x).norm(), 1e-9 * s.a.norm());
-  }
+  for (const auto solver : {ss::GeodesicSolver::PathEnergy, ss::GeodesicSolver::Flow}) {
+    for (const bool reduced : {false, true}) {
+      SCOPED_TRACE(std::string(solver == ss::GeodesicSolver::Flow ? "flow" : "path energy") +
+                   (reduced ? " reduced" : " full"));
+      ss::GeodesicOptions opt;
+      opt.shapes = 5;
+      opt.solver = solver;
+      opt.flow.reduced = reduced;
+      const ss::GeodesicResult g = ss::geodesic(s.energy, s.base.triangles, s.a, b, opt);
+      ASSERT_EQ(g.shapes.size(), 5u);
+      EXPECT_LT(g.pathEnergy, 1e-12 * scale);
+      EXPECT_TRUE(g.converged);
+      for (const auto& x : g.shapes) {  // every shape is a rigid copy of a
+        const ss::RigidTransform m = ss::kabsch(s.a, x);
+        EXPECT_LT((ss::applyRigid(m, s.a) - x).norm(), 1e-9 * s.a.norm());
+      }
+    }
   }
 }
 
