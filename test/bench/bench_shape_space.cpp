@@ -11,6 +11,7 @@
 // Run: bench_shape_space --benchmark_repetitions=3 --benchmark_report_aggregates_only=true.
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <random>
@@ -37,6 +38,12 @@ enum class Mode { ReducedGhost, ReducedExact, Full, FlowReduced };
 
 bool large() { return std::getenv("DE_BENCH_LARGE") != nullptr; }
 
+// Seconds of the last ghost-mesh smoothing step (for the filter baseline's ratio).
+double& lastSmoothingSeconds() {
+  static double seconds = 0.0;
+  return seconds;
+}
+
 void geodesicCase(benchmark::State& state, Mode mode) {
   if (mode == Mode::FlowReduced && !large()) {
     state.SkipWithError("set DE_BENCH_LARGE=1 (takes minutes)");
@@ -61,18 +68,22 @@ void geodesicCase(benchmark::State& state, Mode mode) {
   if (mode == Mode::Full) options.absoluteFactor = 1e-14;
   options.requireConvergence = false;
   ss::GeodesicResult g;
+  const auto start = std::chrono::steady_clock::now();
   for (auto _ : state) {
     g = ss::geodesic(energy, ends.triangles, ends.shapes[0], ends.shapes[1], options);
     benchmark::DoNotOptimize(g.length);
   }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   // Accuracy against the full-space path of the same run (paper 004 §7: lengths within 0.1 %, shapes by
   // summed L2 distances relative to the summed shape norms).
   static std::vector<Eigen::VectorXd> fullShapes;
-  static double fullLength = 0.0;
+  static double fullLength = 0.0, fullSeconds = 0.0;
   if (mode == Mode::Full) {
     fullShapes = g.shapes;
     fullLength = g.length;
+    fullSeconds = seconds;
   } else if (fullShapes.size() == g.shapes.size()) {
+    state.counters["speedup_vs_full"] = fullSeconds / seconds;
     double distance = 0.0, norm = 0.0;
     for (size_t k = 0; k < g.shapes.size(); ++k) {
       distance += (g.shapes[k] - fullShapes[k]).norm();
@@ -136,9 +147,16 @@ void smoothingStep(benchmark::State& state, bool ghost) {
   ss::SmoothingFlow flow(energy, seq, options);  // preprocess (ghost mesh, subspace, preconditioners): not timed
   const double before = flow.pathEnergy();
   ss::FlowStep step;
+  const auto start = std::chrono::steady_clock::now();
   for (auto _ : state) {
     step = flow.step();
     benchmark::DoNotOptimize(step.pathEnergy);
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (ghost) {
+    lastSmoothingSeconds() = seconds;  // the ghost case runs first
+  } else if (lastSmoothingSeconds() > 0.0) {
+    state.counters["exact_over_ghost"] = seconds / lastSmoothingSeconds();
   }
   state.counters["path_energy_before"] = before;
   state.counters["path_energy_after"] = flow.pathEnergy();  // full mesh
@@ -154,6 +172,7 @@ void smoothingStep(benchmark::State& state, bool ghost) {
 void gaussianFilterStep(benchmark::State& state) {
   const ss::ShapeSequence seq = bendingSheet(envInt("DE_BENCH_GRID", 122), envInt("DE_BENCH_FRAMES", 140));
   std::vector<Eigen::VectorXd> out = seq.shapes;
+  const auto start = std::chrono::steady_clock::now();
   for (auto _ : state) {
     const int m = int(seq.shapes.size());
     for (int i = 1; i + 1 < m; ++i) {
@@ -168,6 +187,9 @@ void gaussianFilterStep(benchmark::State& state) {
     }
     benchmark::DoNotOptimize(out.back().data());
   }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / double(state.iterations());
+  if (lastSmoothingSeconds() > 0.0) state.counters["ghost_step_over_filter"] = lastSmoothingSeconds() / seconds;
   state.counters["vertices"] = double(seq.numVertices());
   state.counters["frames"] = double(seq.numShapes());
 }
