@@ -68,11 +68,13 @@ int main(int argc, char** argv) {
     options.closed = closed;
     options.reduced = subspace > 0;
     if (options.reduced) options.subspaceDimension = subspace;
+    options.parallelShapes = true;  // DiscreteShells is thread-safe; the Jacobi update makes shapes independent
     ss::SmoothingFlow flow(energy, std::move(sequence), options);
     std::fprintf(stderr, "de_smooth_bag: path energy %.6g\n", flow.pathEnergy());
     for (int k = 0; k < iterations; ++k) {
       const ss::FlowStep step = flow.step();
-      std::fprintf(stderr, "de_smooth_bag: step %d/%d path energy %.6g (tau %.3g)\n", k + 1, iterations, step.pathEnergy, step.tau);
+      std::fprintf(stderr, "de_smooth_bag: step %d/%d %spath energy %.6g (tau %.3g)\n", k + 1, iterations,
+                   flow.ghostVertices() > 0 ? "ghost-mesh " : "", step.pathEnergy, step.tau);
     }
     rosbag::Bag out(output, rosbag::bagmode::Write);
     size_t next = 0;

@@ -96,9 +96,13 @@ private:
       options.closed = request.closed;
       options.reduced = request.subspace > 0;
       if (options.reduced) options.subspaceDimension = static_cast<int>(request.subspace);
+      options.parallelShapes = true;  // DiscreteShells is thread-safe; the Jacobi update makes shapes independent
       ss::SmoothingFlow flow(energy, std::move(input), options);
       response.path_energy.push_back(flow.pathEnergy());
-      for (uint32_t k = 0; k < request.iterations; ++k) response.path_energy.push_back(flow.step().pathEnergy);
+      for (uint32_t k = 0; k < request.iterations; ++k) {
+        const double controlled = flow.step().pathEnergy;  // of the ghost shapes if a ghost mesh is used
+        response.path_energy.push_back(flow.ghostVertices() > 0 ? flow.pathEnergy() : controlled);
+      }
       for (size_t i = 0; i < request.shapes.size(); ++i)
         response.shapes.push_back(cloud(flow.current().shapes[i], request.shapes[i].header));
     });

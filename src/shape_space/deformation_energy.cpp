@@ -38,4 +38,13 @@ void DeformationEnergy::evaluate(const Eigen::VectorXd& reference, const Eigen::
   if (outputs.hessianReference) *outputs.hessianReference = hessianReference(reference, deformed);
 }
 
+std::unique_ptr<DeformationEnergy> DeformationEnergy::onTriangles(const Eigen::Matrix3Xi&, Eigen::Index) const {
+  throw InvalidInputError("DeformationEnergy: this energy cannot be evaluated on another mesh (no ghost mesh)");
+}
+
+std::unique_ptr<WeightedReferenceEnergy> DeformationEnergy::weightedReferences(
+    const std::vector<double>&, const std::vector<const Eigen::VectorXd*>&) const {
+  return nullptr;
+}
+
 }  // namespace deformation_enrichment::shape_space

@@ -40,6 +40,11 @@ double dihedralAngle(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj, const
   return std::atan2(n1.cross(n2).dot(e) / e.norm(), n1.dot(n2));
 }
 
+Eigen::Matrix<double, 12, 1> dihedralAngleGradient(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj,
+                                                   const Eigen::Vector3d& xk, const Eigen::Vector3d& xl) {
+  return hingeGradient<double>(xi, xj, xk, xl);
+}
+
 HingeAngle dihedralAngleDerivatives(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj,
                                     const Eigen::Vector3d& xk, const Eigen::Vector3d& xl, bool withHessian) {
   HingeAngle result;

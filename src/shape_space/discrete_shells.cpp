@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <memory>
 #include <cmath>
 #include <string>
 #include <tuple>
@@ -93,16 +94,19 @@ void addHingeTerm(const std::array<Eigen::Vector3d, 4>& x, const std::array<Eige
   const bool needDeformedAngle = (need & (detail::kGradientDeformed | detail::kHessianDeformed | detail::kHessianMixed)) != 0u;
   const bool needReferenceDerivatives = (need & (detail::kGradientReference | detail::kHessianMixed | detail::kHessianReference)) != 0u;
   // Angle derivatives only when needed (a HingeAngle carries a 12 x 12 Hessian).
+  // Without the Hessian only the gradient is filled (the HingeAngle Hessian stays unread).
   HingeAngle theta, thetaBar;
-  if (needDeformedAngle) {
-    theta = dihedralAngleDerivatives(x[0], x[1], x[2], x[3], (need & detail::kHessianDeformed) != 0u);
+  if (need & detail::kHessianDeformed) {
+    theta = dihedralAngleDerivatives(x[0], x[1], x[2], x[3], true);
   } else {
     theta.theta = dihedralAngle(x[0], x[1], x[2], x[3]);
+    if (needDeformedAngle) theta.gradient = dihedralAngleGradient(x[0], x[1], x[2], x[3]);
   }
-  if (needReferenceDerivatives) {
-    thetaBar = dihedralAngleDerivatives(xBar[0], xBar[1], xBar[2], xBar[3], (need & detail::kHessianReference) != 0u);
+  if (need & detail::kHessianReference) {
+    thetaBar = dihedralAngleDerivatives(xBar[0], xBar[1], xBar[2], xBar[3], true);
   } else {
     thetaBar.theta = dihedralAngle(xBar[0], xBar[1], xBar[2], xBar[3]);
+    if (needReferenceDerivatives) thetaBar.gradient = dihedralAngleGradient(xBar[0], xBar[1], xBar[2], xBar[3]);
   }
   // w_bar and its derivatives: a function of five reference squared lengths (no deformed ones).
   static constexpr std::array<LocalEdge, 0> kNoEdges{};
@@ -265,6 +269,13 @@ void DiscreteShells::buildHessianPattern() {
   }
   pattern_.zeros.makeCompressed();
   pattern_.outer.assign(pattern_.zeros.outerIndexPtr(), pattern_.zeros.outerIndexPtr() + dofs + 1);
+}
+
+std::unique_ptr<DeformationEnergy> DiscreteShells::onTriangles(const Eigen::Matrix3Xi& triangles,
+                                                               Eigen::Index numVertices) const {
+  auto energy = std::make_unique<DiscreteShells>(triangles, numVertices, parameters_);
+  energy->setThreadCount(threads_);
+  return energy;
 }
 
 void DiscreteShells::setThreadCount(int threads) {

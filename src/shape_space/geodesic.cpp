@@ -1,10 +1,14 @@
 #include "deformation_enrichment/shape_space/geodesic.hpp"
 
 #include <cmath>
+#include <memory>
 #include <string>
 
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/shape_space/affine_subspace.hpp"
 #include "deformation_enrichment/shape_space/elastic_average.hpp"
+#include "deformation_enrichment/shape_space/geodesic_path.hpp"
+#include "deformation_enrichment/shape_space/ghost_mesh.hpp"
 #include "deformation_enrichment/shape_space/rigid_interpolation.hpp"
 
 namespace deformation_enrichment::shape_space {
@@ -26,20 +30,9 @@ std::vector<Eigen::VectorXd> resample(const std::vector<Eigen::VectorXd>& coarse
   return fine;
 }
 
-}  // namespace
-
-double pathLength(const DeformationEnergy& energy, const std::vector<Eigen::VectorXd>& shapes) {
-  double length = 0.0;
-  for (size_t k = 0; k + 1 < shapes.size(); ++k)
-    length += std::sqrt(std::max(0.5 * (energy.value(shapes[k], shapes[k + 1]) + energy.value(shapes[k + 1], shapes[k])), 0.0));
-  return length;
-}
-
-GeodesicResult geodesic(const DeformationEnergy& energy, const Eigen::Matrix3Xi& triangles, const Eigen::VectorXd& a,
-                        const Eigen::VectorXd& b, const GeodesicOptions& options) {
-  if (options.shapes < 3) throw InvalidInputError("geodesic: needs at least 3 shapes, got " + std::to_string(options.shapes));
-  if (options.insertPerSegment < 1) throw InvalidInputError("geodesic: insertPerSegment must be >= 1");
-  validateSequence(ShapeSequence{triangles, {a, b}}, 2);
+// The paper's scheme: the smoothing flow (eq. 2, ends fixed) at every level until its residual meets the rule.
+GeodesicResult flowGeodesic(const DeformationEnergy& energy, const Eigen::Matrix3Xi& triangles, const Eigen::VectorXd& a,
+                            const Eigen::VectorXd& b, const GeodesicOptions& options) {
   FlowOptions flowOptions = options.flow;
   flowOptions.closed = false;
   flowOptions.rho = 0.0;
@@ -50,6 +43,7 @@ GeodesicResult geodesic(const DeformationEnergy& energy, const Eigen::Matrix3Xi&
   while (int(shapes.size()) < options.shapes) {
     const int refined = std::min(options.shapes, (int(shapes.size()) - 1) * (options.insertPerSegment + 1) + 1);
     SmoothingFlow flow(energy, ShapeSequence{triangles, resample(shapes, refined)}, flowOptions);
+    result.ghostVertices = flow.ghostVertices();
     const double start = flow.reducedResidualSquaredNorm();
     double threshold = std::max(options.absoluteFactor * double(flow.degreesOfFreedom()), options.relativeFactor * start);
     double gradient = start;
@@ -58,7 +52,7 @@ GeodesicResult geodesic(const DeformationEnergy& energy, const Eigen::Matrix3Xi&
       for (int it = 0; it < options.maxIterationsPerLevel && !result.converged; ++it) {
         const FlowStep step = flow.step();
         ++result.iterations;
-        result.pathEnergyHistory.push_back(step.pathEnergy);
+        result.pathEnergyHistory.push_back(flow.ghostVertices() > 0 ? flow.pathEnergy() : step.pathEnergy);
         gradient = flow.reducedResidualSquaredNorm();
         result.converged = gradient <= threshold;
         if (step.stalled) break;  // no tau decreases eq. 4 any more: as converged as this level gets
@@ -88,10 +82,106 @@ GeodesicResult geodesic(const DeformationEnergy& energy, const Eigen::Matrix3Xi&
                            std::to_string(gradient) + " > " + std::to_string(threshold) + ")");
   }
   result.shapes = std::move(shapes);
+  return result;
+}
+
+// Minimises eq. 4 over all inner shapes at every level (geodesic_path.hpp), reduced or full.
+GeodesicResult pathEnergyGeodesic(const DeformationEnergy& energy, const Eigen::Matrix3Xi& triangles,
+                                  const Eigen::VectorXd& a, const Eigen::VectorXd& b, const GeodesicOptions& options) {
+  const FlowOptions& flow = options.flow;
+  PathSolveOptions solveOptions;
+  solveOptions.maxIterations = options.maxIterationsPerLevel;
+  solveOptions.absoluteFactor = options.absoluteFactor;
+  solveOptions.relativeFactor = options.relativeFactor;
+  GeodesicResult result;
+  // The ghost mesh of the start shape, shared by all levels (paper 004 §6).
+  std::unique_ptr<GhostMesh> ghost;
+  std::unique_ptr<DeformationEnergy> ghostEnergy;
+  if (flow.reduced && flow.useGhostMesh && a.size() / 3 > flow.ghostMesh.targetVertices) {
+    ghost = std::make_unique<GhostMesh>(ghostMesh(triangles, a, flow.ghostMesh));
+    ghostEnergy = energy.onTriangles(ghost->triangles, ghost->numVertices());
+    result.ghostVertices = ghost->numVertices();
+  }
+  std::vector<Eigen::VectorXd> shapes{a, b};
+  Eigen::MatrixXd carried;  // reduced: the previous level's basis
+  while (int(shapes.size()) < options.shapes) {
+    const int refined = std::min(options.shapes, (int(shapes.size()) - 1) * (options.insertPerSegment + 1) + 1);
+    shapes = resample(shapes, refined);
+    PathSolveReport report;
+    if (!flow.reduced) {
+      report = minimisePathEnergyFull(energy, shapes, solveOptions);
+      result.iterations += report.iterations;
+      result.evaluations += report.evaluations;
+      result.pathEnergyHistory.push_back(pathEnergy(energy, shapes));
+    } else {
+      // Subspace: PCA of the level's initial path plus the eq. 9 directions (paper 004 §6: coarse curves get
+      // flow directions): at the first level those at the initial path, later the previous level's basis
+      // (its tangents were taken at a solved path; new ones would cost a factorisation per shape). Each
+      // round adds the tangents at the current path.
+      AffineSubspace subspace = pcaSubspace(shapes, flow.subspaceDimension);
+      subspace.origin.setZero();  // only the basis is used: shape k = (its current value) + B q_k
+      if (carried.cols() == 0) {
+        enrich(subspace, pathTangents(energy, shapes));
+      } else {
+        std::vector<Eigen::VectorXd> previous;
+        for (Eigen::Index c = 0; c < carried.cols(); ++c) previous.push_back(carried.col(c));
+        enrich(subspace, previous);
+      }
+      for (int round = 0;; ++round) {
+        report = minimisePathEnergyReduced(energy, shapes, subspace.basis, ghost.get(), ghostEnergy.get(), solveOptions);
+        result.iterations += report.iterations;
+        result.evaluations += report.evaluations;
+        std::vector<Eigen::VectorXd> gradients;
+        result.pathEnergyHistory.push_back(pathEnergy(energy, shapes, ghost ? nullptr : &gradients));
+        if (round == options.enrichmentRounds || !report.converged) break;
+        if (!ghost) {  // exact energies: stop once the unprojected gradient meets the rule too
+          double full = 0.0;
+          for (size_t k = 1; k + 1 < gradients.size(); ++k) full += gradients[k].squaredNorm();
+          if (full <= options.absoluteFactor * double(a.size()) * double(shapes.size() - 2)) break;
+        }
+        if (enrich(subspace, pathTangents(energy, shapes)) == 0) break;
+      }
+      carried = subspace.basis;
+    }
+    result.converged = report.converged;
+    result.finalGradientSquaredNorm = report.gradientSquaredNorm;
+    if (!report.converged && options.requireConvergence)
+      throw NumericalError("geodesic: eq. 4 on " + std::to_string(refined) + " shapes did not meet the stopping rule (|g|^2 = " +
+                           std::to_string(report.gradientSquaredNorm) + " > " + std::to_string(report.threshold) + ")");
+  }
+  std::vector<Eigen::VectorXd> gradients;
+  pathEnergy(energy, shapes, &gradients);
+  result.finalFullResidualSquaredNorm = 0.0;
+  for (size_t k = 1; k + 1 < gradients.size(); ++k) result.finalFullResidualSquaredNorm += gradients[k].squaredNorm();
+  result.shapes = std::move(shapes);
+  return result;
+}
+
+}  // namespace
+
+double pathLength(const DeformationEnergy& energy, const std::vector<Eigen::VectorXd>& shapes) {
+  double length = 0.0;
+  const int segments = int(shapes.size()) - 1;
+  // Segments in parallel on large meshes (the energy's own loops then run serially).
+#pragma omp parallel for reduction(+ : length) if (energy.numVertices() >= 1000)
+  for (int k = 0; k < segments; ++k) {
+    const Eigen::VectorXd &a = shapes[size_t(k)], &b = shapes[size_t(k + 1)];
+    length += std::sqrt(std::max(0.5 * (energy.value(a, b) + energy.value(b, a)), 0.0));
+  }
+  return length;
+}
+
+GeodesicResult geodesic(const DeformationEnergy& energy, const Eigen::Matrix3Xi& triangles, const Eigen::VectorXd& a,
+                        const Eigen::VectorXd& b, const GeodesicOptions& options) {
+  if (options.shapes < 3) throw InvalidInputError("geodesic: needs at least 3 shapes, got " + std::to_string(options.shapes));
+  if (options.insertPerSegment < 1) throw InvalidInputError("geodesic: insertPerSegment must be >= 1");
+  if (options.enrichmentRounds < 0) throw InvalidInputError("geodesic: enrichmentRounds must be >= 0");
+  validateSequence(ShapeSequence{triangles, {a, b}}, 2);
+  GeodesicResult result = options.solver == GeodesicSolver::Flow ? flowGeodesic(energy, triangles, a, b, options)
+                                                                 : pathEnergyGeodesic(energy, triangles, a, b, options);
+  // Reported on the full mesh whatever the solver approximated.
   result.length = pathLength(energy, result.shapes);
-  result.pathEnergy = 0.0;
-  for (size_t k = 0; k + 1 < result.shapes.size(); ++k)
-    result.pathEnergy += energy.value(result.shapes[k], result.shapes[k + 1]) + energy.value(result.shapes[k + 1], result.shapes[k]);
+  result.pathEnergy = pathEnergy(energy, result.shapes);
   return result;
 }
 

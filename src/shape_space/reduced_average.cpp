@@ -1,7 +1,9 @@
 #include "deformation_enrichment/shape_space/reduced_average.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -48,18 +50,30 @@ AverageResult reducedElasticAverage(const DeformationEnergy& energy, const std::
     return Eigen::VectorXd(sub.lift(lower.transpose().triangularView<Eigen::Upper>().solve(z)));
   };
   int evaluations = 0;
+  // eq. 10 with an energy that aggregates its references: one pass per evaluation instead of one per example.
+  const std::unique_ptr<WeightedReferenceEnergy> aggregated =
+      options.symmetric ? nullptr : energy.weightedReferences(weights, examples);
+  // The best point seen: L-BFGS may stop on a bad iterate (e.g. after a breakdown of its curvature pairs).
+  Eigen::VectorXd best;
+  double bestValue = std::numeric_limits<double>::infinity();
   const auto objective = [&](const Eigen::VectorXd& z, Eigen::VectorXd& gradZ) {
     ++evaluations;
+    if (!z.allFinite()) throw std::runtime_error("L-BFGS produced a non-finite iterate");
     Eigen::VectorXd gradY;
     double f;
     try {
-      f = averageObjective(energy, weights, examples, lift(z), options.symmetric, &gradY);
+      f = aggregated ? aggregated->evaluate(lift(z), &gradY)
+                     : averageObjective(energy, weights, examples, lift(z), options.symmetric, &gradY);
     } catch (const InvalidInputError&) {  // a line-search trial collapsed a triangle: reject it
       gradZ = Eigen::VectorXd::Zero(z.size());
       return std::numeric_limits<double>::infinity();
     }
     gradZ = lower.triangularView<Eigen::Lower>().solve(sub.basis->transpose() * gradY);
     if (!std::isfinite(f)) return std::numeric_limits<double>::infinity();
+    if (f < bestValue) {
+      bestValue = f;
+      best = z;
+    }
     return f;
   };
   Eigen::VectorXd z = lower.transpose() * sub.coordinates(initial);
@@ -83,16 +97,21 @@ AverageResult reducedElasticAverage(const DeformationEnergy& energy, const std::
   } catch (const std::exception& e) {
     failure = e.what();  // typically a line search that cannot progress: judged by the gradient below
   }
+  if (!z.allFinite() || !(objective(z, gradZ) <= bestValue)) z = best;
   const double fEnd = objective(z, gradZ);
   const double gnorm = gradZ.norm();
   // A line search that stalls at round-off level is a converged result; anything else is an error.
   const double accepted = failure.empty() ? tolerance : std::max(tolerance, 1e-8 * std::sqrt(std::max(f0, 0.0)));
-  if (!(gnorm <= accepted * (1.0 + 1e-9)) || !std::isfinite(fEnd))
+  if (!(gnorm <= accepted * (1.0 + 1e-9)) || !std::isfinite(fEnd)) {
+    char numbers[96];
+    std::snprintf(numbers, sizeof(numbers), "reduced gradient norm %.3e, tolerance %.3e", gnorm, accepted);
     throw NumericalError("reduced average: L-BFGS did not converge after " + std::to_string(iterations) +
-                         " iterations (reduced gradient norm " + std::to_string(gnorm) + ", tolerance " +
-                         std::to_string(tolerance) + (failure.empty() ? "" : ", " + failure) + ")");
+                         " iterations (" + numbers + (failure.empty() ? "" : ", " + failure) + ")");
+  }
   AverageResult result;
-  result.shape = lift(z);
+  result.reducedCoordinates = lower.transpose().triangularView<Eigen::Upper>().solve(z);
+  result.shape = sub.lift(result.reducedCoordinates);
+  result.evaluations = evaluations;
   result.objective = fEnd;
   result.iterations = iterations;
   return result;

@@ -46,7 +46,8 @@ std::vector<Eigen::VectorXd> flowTangents(const DeformationEnergy& energy, const
     const Eigen::VectorXd g = pathGradientAt(energy, x, &shapes[size_t(wrap(i - 1, count))],
                                              &shapes[size_t(wrap(i + 1, count))]);
     // eq. 9: (d1d1 E(x,x) + d2d2 E(x,x)) dx/dtau = -1/2 (eq. 3 LHS); a ridge removes the rigid null space.
-    Eigen::SparseMatrix<double> h = energy.hessianReference(x, x) + energy.hessianDeformed(x, x);
+    // d1d1 E(x,x) = d2d2 E(x,x) (E(x,x) = 0 with vanishing gradients for every x), so one d2d2 pass.
+    Eigen::SparseMatrix<double> h = 2.0 * energy.hessianDeformed(x, x);
     const double ridge = 1e-8 * std::max(h.diagonal().cwiseAbs().mean(), 1e-300);
     for (Eigen::Index k = 0; k < h.rows(); ++k) h.coeffRef(k, k) += ridge;
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(h);
@@ -69,7 +70,19 @@ SmoothingFlow::SmoothingFlow(const DeformationEnergy& energy, ShapeSequence inpu
     restored_[size_t(i)] = 1;
   }
   current_ = input_;
+  if (options_.reduced && options_.useGhostMesh && input_.numVertices() > options_.ghostMesh.targetVertices) {
+    ghost_ = std::make_unique<GhostMesh>(ghostMesh(input_.triangles, input_.shapes.front(), options_.ghostMesh));
+    ghostEnergy_ = energy_.onTriangles(ghost_->triangles, ghost_->numVertices());
+  }
   setCurrent(current_.shapes);
+}
+
+std::vector<Eigen::VectorXd> SmoothingFlow::evaluatedShapes(const std::vector<Eigen::VectorXd>& shapes) const {
+  if (!ghost_) return shapes;
+  std::vector<Eigen::VectorXd> out;
+  out.reserve(shapes.size());
+  for (const Eigen::VectorXd& x : shapes) out.push_back(ghost_->restrict(x));
+  return out;
 }
 
 void SmoothingFlow::setCurrent(std::vector<Eigen::VectorXd> shapes) {
@@ -83,7 +96,10 @@ void SmoothingFlow::setCurrent(std::vector<Eigen::VectorXd> shapes) {
     restored_.assign(input_.shapes.size(), options_.restoredShapes.empty() ? 1 : 0);
   }
   current_ = std::move(next);
+  lastControlled_ = -1.0;
   spaces_.clear();
+  fineBasis_.reset();
+  fineOrigins_.clear();
   if (!options_.reduced) return;
   // Preprocess: PCA of the sequence, + flow tangents for short sequences; each shape's affine space passes
   // through the shape itself, so the current shape is exactly representable.
@@ -92,14 +108,19 @@ void SmoothingFlow::setCurrent(std::vector<Eigen::VectorXd> shapes) {
     enrich(pca, flowTangents(energy_, current_.shapes, options_.closed));
   enrich(pca, extraDirections_);
   if (pca.dimension() == 0) throw InvalidInputError("flow: the shapes span no subspace (all identical?)");
-  auto basis = std::make_shared<const Eigen::MatrixXd>(std::move(pca.basis));
+  fineBasis_ = std::make_shared<const Eigen::MatrixXd>(std::move(pca.basis));
+  fineOrigins_ = current_.shapes;
+  // With a ghost mesh the reduced spaces (and preconditioners) live on it: origin S x_i, basis S B.
+  const auto basis = ghost_ ? std::make_shared<const Eigen::MatrixXd>(ghost_->restrictRows(*fineBasis_)) : fineBasis_;
+  const std::vector<Eigen::VectorXd> origins = evaluatedShapes(current_.shapes);
+  const DeformationEnergy& energy = evaluated();
   spaces_.resize(current_.shapes.size());
   std::exception_ptr error;
 #pragma omp parallel for schedule(dynamic) if (options_.parallelShapes && parallelWorthIt(current_.shapes))
   for (int i = 0; i < int(current_.shapes.size()); ++i) {
     if (!isFree(i)) continue;
     try {
-      spaces_[size_t(i)] = makeReducedSpace(energy_, current_.shapes[size_t(i)], basis, current_.shapes[size_t(i)]);
+      spaces_[size_t(i)] = makeReducedSpace(energy, origins[size_t(i)], basis, origins[size_t(i)]);
     } catch (...) {
 #pragma omp critical
       error = std::current_exception();
@@ -135,6 +156,21 @@ double SmoothingFlow::pathEnergy(const std::vector<Eigen::VectorXd>& shapes) con
   return sum;
 }
 
+double SmoothingFlow::controlledPathEnergy(const std::vector<Eigen::VectorXd>& shapes) const {
+  if (!ghost_) return pathEnergy(shapes);
+  const std::vector<Eigen::VectorXd> coarse = evaluatedShapes(shapes);
+  const int count = int(coarse.size());
+  const int segments = options_.closed ? count : count - 1;
+  double sum = 0.0;
+#pragma omp parallel for reduction(+ : sum) if (options_.parallelShapes)
+  for (int k = 0; k < segments; ++k) {  // eq. 4 on the ghost mesh
+    const Eigen::VectorXd& a = coarse[size_t(k)];
+    const Eigen::VectorXd& b = coarse[size_t(wrap(k + 1, count))];
+    sum += ghostEnergy_->value(a, b) + ghostEnergy_->value(b, a);
+  }
+  return sum;
+}
+
 std::vector<Eigen::VectorXd> SmoothingFlow::pathGradient() const {
   const int count = int(current_.shapes.size());
   std::vector<Eigen::VectorXd> gradients(current_.shapes.size());
@@ -155,7 +191,7 @@ double SmoothingFlow::reducedPathGradientSquaredNorm() const {
   double sum = 0.0;
   for (size_t i = 0; i < gradients.size(); ++i) {
     if (!isFree(int(i))) continue;
-    sum += options_.reduced ? (spaces_[i].basis->transpose() * gradients[i]).squaredNorm() : gradients[i].squaredNorm();
+    sum += options_.reduced ? (fineBasis_->transpose() * gradients[i]).squaredNorm() : gradients[i].squaredNorm();
   }
   return sum;
 }
@@ -164,7 +200,11 @@ double SmoothingFlow::reducedResidualSquaredNorm() const {
   return reducedResidualSquaredNorm(current_.shapes);
 }
 
-double SmoothingFlow::reducedResidualSquaredNorm(const std::vector<Eigen::VectorXd>& shapes) const {
+double SmoothingFlow::reducedResidualSquaredNorm(const std::vector<Eigen::VectorXd>& fineShapes) const {
+  std::vector<Eigen::VectorXd> coarse;
+  if (ghost_) coarse = evaluatedShapes(fineShapes);
+  const std::vector<Eigen::VectorXd>& shapes = ghost_ ? coarse : fineShapes;
+  const DeformationEnergy& energy = evaluated();
   const int count = int(shapes.size());
   double sum = 0.0;
 #pragma omp parallel for reduction(+ : sum) if (options_.parallelShapes && parallelWorthIt(shapes))
@@ -173,8 +213,8 @@ double SmoothingFlow::reducedResidualSquaredNorm(const std::vector<Eigen::Vector
     const Eigen::VectorXd& x = shapes[size_t(i)];
     const Eigen::VectorXd& prev = shapes[size_t(wrap(i - 1, count))];
     const Eigen::VectorXd& next = shapes[size_t(wrap(i + 1, count))];
-    Eigen::VectorXd r = energy_.gradientDeformed(prev, x) + energy_.gradientDeformed(next, x);
-    if (options_.symmetricAverage) r += energy_.gradientReference(x, prev) + energy_.gradientReference(x, next);
+    Eigen::VectorXd r = energy.gradientDeformed(prev, x) + energy.gradientDeformed(next, x);
+    if (options_.symmetricAverage) r += energy.gradientReference(x, prev) + energy.gradientReference(x, next);
     sum += options_.reduced ? (spaces_[size_t(i)].basis->transpose() * r).squaredNorm() : r.squaredNorm();
   }
   return sum;
@@ -189,11 +229,19 @@ Eigen::Index SmoothingFlow::degreesOfFreedom() const {
 
 std::vector<Eigen::VectorXd> SmoothingFlow::trialStep(double tau, int* iterations) const {
   const int count = int(current_.shapes.size());
-  const std::vector<Eigen::VectorXd>& x = current_.shapes;
-  std::vector<Eigen::VectorXd> next = x;
+  // Jacobi: every average uses the previous iterate's neighbours, so the shapes are independent.
+  std::vector<Eigen::VectorXd> coarse, coarseInput;  // ghost shapes (no copies without a ghost mesh)
+  if (ghost_) {
+    coarse = evaluatedShapes(current_.shapes);
+    coarseInput = evaluatedShapes(input_.shapes);
+  }
+  const std::vector<Eigen::VectorXd>& x = ghost_ ? coarse : current_.shapes;
+  const std::vector<Eigen::VectorXd>& input = ghost_ ? coarseInput : input_.shapes;
+  const DeformationEnergy& energy = evaluated();
+  std::vector<Eigen::VectorXd> next = current_.shapes;
   std::exception_ptr error;
   int totalIterations = 0;
-#pragma omp parallel for schedule(dynamic) if (options_.parallelShapes && parallelWorthIt(x))
+#pragma omp parallel for schedule(dynamic) if (options_.parallelShapes && parallelWorthIt(current_.shapes))
   for (int i = 0; i < count; ++i) {
     if (!isFree(i) || error) continue;
     try {
@@ -203,8 +251,8 @@ std::vector<Eigen::VectorXd> SmoothingFlow::trialStep(double tau, int* iteration
       if (options_.weights == FlowWeights::ProportionPreserving) {
         // l_{i-1} = sqrt(E(x_{i-1}, x_i)), l_i = sqrt(E(x_i, x_{i+1})); the nearer neighbour pulls harder so
         // that on a straight path the current ratio l_{i-1} : l_i is stationary (it is preserved).
-        const double lPrev = std::sqrt(std::max(energy_.value(prev, x[size_t(i)]), 0.0));
-        const double lNext = std::sqrt(std::max(energy_.value(x[size_t(i)], succ), 0.0));
+        const double lPrev = std::sqrt(std::max(energy.value(prev, x[size_t(i)]), 0.0));
+        const double lNext = std::sqrt(std::max(energy.value(x[size_t(i)], succ), 0.0));
         if (lPrev + lNext > 0.0) {
           wPrev = tau * lNext / (lPrev + lNext);
           wNext = tau * lPrev / (lPrev + lNext);
@@ -215,17 +263,19 @@ std::vector<Eigen::VectorXd> SmoothingFlow::trialStep(double tau, int* iteration
       std::vector<const Eigen::VectorXd*> examples{&prev, &x[size_t(i)], &succ};
       if (restored_[size_t(i)] && options_.rho > 0.0) {
         weights.push_back(options_.rho);
-        examples.push_back(&input_.shapes[size_t(i)]);
+        examples.push_back(&input[size_t(i)]);
       }
       AverageResult result;
       if (options_.reduced) {
         ReducedAverageOptions solverOptions = options_.reducedSolver;
         solverOptions.symmetric = options_.symmetricAverage;
-        result = reducedElasticAverage(energy_, weights, examples, spaces_[size_t(i)], x[size_t(i)], solverOptions);
+        result = reducedElasticAverage(energy, weights, examples, spaces_[size_t(i)], x[size_t(i)], solverOptions);
+        // Same reduced coordinates on the fine mesh (exact lift without a ghost mesh).
+        if (ghost_) result.shape = fineOrigins_[size_t(i)] + *fineBasis_ * result.reducedCoordinates;
       } else {
         AverageOptions solverOptions = options_.full;
         solverOptions.symmetric = options_.symmetricAverage;
-        result = elasticAverage(energy_, weights, examples, x[size_t(i)], solverOptions);
+        result = elasticAverage(energy, weights, examples, x[size_t(i)], solverOptions);
       }
       next[size_t(i)] = std::move(result.shape);
 #pragma omp atomic
@@ -242,7 +292,8 @@ std::vector<Eigen::VectorXd> SmoothingFlow::trialStep(double tau, int* iteration
 
 FlowStep SmoothingFlow::step() {
   FlowStep report;
-  const double before = pathEnergy();
+  // The energy after the previous step is the one before this (saves 2 m energy passes per step).
+  const double before = lastControlled_ >= 0.0 ? lastControlled_ : controlledPathEnergy();
   // eq. 10 averaging is not the gradient flow of eq. 4 (only eq. 1 is, Lemma 2), so near its own fixed
   // points eq. 4 may not decrease: there a step is also accepted if it reduces the flow's residual.
   const bool byResidual = options_.acceptResidualDecrease && !options_.symmetricAverage;
@@ -251,7 +302,7 @@ FlowStep SmoothingFlow::step() {
   for (int halving = 0; halving <= options_.maxTauHalvings; ++halving, tau *= 0.5) {
     int iterations = 0;
     std::vector<Eigen::VectorXd> next = trialStep(tau, &iterations);
-    const double after = pathEnergy(next);
+    const double after = controlledPathEnergy(next);
     // With a restoring force the flow trades path energy against fidelity, so only rho = 0 is controlled.
     bool accept = std::isfinite(after) && (after < before || options_.rho > 0.0);
     if (!accept && std::isfinite(after) && byResidual) {
@@ -261,6 +312,7 @@ FlowStep SmoothingFlow::step() {
     report.solverIterations = iterations;
     if (accept) {
       current_.shapes = std::move(next);
+      lastControlled_ = after;
       report.pathEnergy = after;
       report.tau = tau;
       report.halvings = halving;

@@ -1,6 +1,6 @@
-// de_geodesic: discrete geodesic between two shapes by temporal coarse-to-fine refinement and the
-// smoothing flow (paper 004 §5-6).
-//   de_geodesic A.obj B.obj --shapes n --output DIR [--full | --subspace d] [--json]
+// de_geodesic: discrete geodesic between two shapes by temporal coarse-to-fine refinement, minimising the
+// path energy (eq. 4) at every level, or with the smoothing flow (--flow; paper 004 §5-6).
+//   de_geodesic A.obj B.obj --shapes n --output DIR [--full | --subspace d] [--ghost N] [--flow] [--json]
 // Writes DIR/geodesic_000.<ext> ... and prints {"length": L, "path_energy": E, "seconds": s, ...}.
 #include <chrono>
 #include <cstdio>
@@ -23,9 +23,9 @@ namespace fs = std::filesystem;
 int main(int argc, char** argv) {
   CLI::App app{"Shape-space geodesic between two shapes (paper 004)"};
   std::string pathA, pathB, output;
-  int shapes = 8, subspace = 16, insert = 2;
+  int shapes = 8, subspace = 16, insert = 2, ghost = 1250, rounds = 1;
   double tau = 1.0;
-  bool full = false, json = false, symmetric = false;
+  bool full = false, json = false, symmetric = false, useFlow = false;
   std::string energyName = "classic";
   app.add_option("A", pathA, "start shape (OBJ/PLY)")->required();
   app.add_option("B", pathB, "end shape, same topology")->required();
@@ -34,8 +34,11 @@ int main(int argc, char** argv) {
   auto* sub = app.add_option("--subspace", subspace, "PCA subspace dimension (reduced mode, default)");
   app.add_flag("--full", full, "full-space Newton instead of the reduced solver")->excludes(sub);
   app.add_option("--insert", insert, "shapes inserted per segment and refinement level");
-  app.add_option("--tau", tau, "flow step size in (0, 1]");
-  app.add_flag("--symmetric", symmetric, "symmetric averaging (eq. 1) instead of eq. 10");
+  app.add_option("--ghost", ghost, "reduced mode: ghost mesh vertices for the energy approximation (0 = off)");
+  app.add_option("--enrichment-rounds", rounds, "reduced mode: subspace enrichment rounds per level");
+  app.add_flag("--flow", useFlow, "use the smoothing flow (paper 004) instead of minimising eq. 4 directly");
+  app.add_option("--tau", tau, "flow step size in (0, 1] (--flow)");
+  app.add_flag("--symmetric", symmetric, "symmetric averaging (eq. 1) instead of eq. 10 (--flow)");
   app.add_option("--energy", energyName, "classic (paper 004 §7) or hyperelastic (GOAST)")
       ->check(CLI::IsMember({"classic", "hyperelastic"}));
   app.add_flag("--json", json, "print the JSON summary on stdout");
@@ -56,8 +59,12 @@ int main(int argc, char** argv) {
     options.flow.reduced = !full;
     options.flow.subspaceDimension = subspace;
     options.flow.symmetricAverage = symmetric;
+    options.flow.useGhostMesh = ghost > 0;
+    if (ghost > 0) options.flow.ghostMesh.targetVertices = ghost;
+    options.enrichmentRounds = rounds;
+    options.solver = useFlow ? ss::GeodesicSolver::Flow : ss::GeodesicSolver::PathEnergy;
     std::cerr << "de_geodesic: " << ends.numVertices() << " vertices, " << shapes << " shapes, "
-              << (full ? "full" : "reduced") << " space\n";
+              << (full ? "full" : "reduced") << " space, " << (useFlow ? "flow" : "path energy") << "\n";
     const ss::GeodesicResult g = ss::geodesic(energy, ends.triangles, ends.shapes[0], ends.shapes[1], options);
     fs::create_directories(output);
     const std::string ext = fs::path(pathA).extension().string();
@@ -69,13 +76,17 @@ int main(int argc, char** argv) {
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::cerr << "  length " << g.length << ", path energy " << g.pathEnergy << ", " << g.iterations
-              << " flow steps, " << seconds << " s\n";
+              << (useFlow ? " flow steps, " : " solver iterations, ") << "ghost vertices " << g.ghostVertices << ", "
+              << seconds << " s\n";
     if (json) {
       nlohmann::json out;
       out["length"] = g.length;
       out["path_energy"] = g.pathEnergy;
       out["path_energy_history"] = g.pathEnergyHistory;
       out["iterations"] = g.iterations;
+      out["evaluations"] = g.evaluations;
+      out["ghost_vertices"] = g.ghostVertices;
+      out["solver"] = useFlow ? "flow" : "path_energy";
       out["converged"] = g.converged;
       out["seconds"] = seconds;
       out["mode"] = full ? "full" : "reduced";

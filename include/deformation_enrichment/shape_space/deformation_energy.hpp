@@ -2,6 +2,9 @@
 // Deformation energy W[x_bar, x] between a reference (undeformed) shape x_bar and a deformed shape x over
 // one fixed topology (paper 004 §3: the dissimilarity measure of shape space). Shapes are flat vectors of
 // size 3V, xyz per vertex: (x_0, y_0, z_0, x_1, ...). The energy is not symmetric in its arguments.
+#include <memory>
+#include <vector>
+
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
@@ -15,6 +18,16 @@ struct EnergyOutputs {
   Eigen::SparseMatrix<double>* hessianDeformed = nullptr;
   Eigen::SparseMatrix<double>* hessianMixed = nullptr;
   Eigen::SparseMatrix<double>* hessianReference = nullptr;
+};
+
+/// sum_i w_i W[x_i, y] with fixed references x_i as a function of y alone: the objective of an eq. 10
+/// average, prepared once and evaluated many times.
+class WeightedReferenceEnergy {
+public:
+  virtual ~WeightedReferenceEnergy() = default;
+  /// The value; with gradient, its derivative in y. Throws InvalidInputError for a wrongly sized,
+  /// non-finite or degenerate y.
+  virtual double evaluate(const Eigen::VectorXd& deformed, Eigen::VectorXd* gradient) const = 0;
 };
 
 class DeformationEnergy {
@@ -52,6 +65,15 @@ public:
   /// calls the single-output methods one by one; implementations override it to share one pass.
   virtual void evaluate(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed,
                         const EnergyOutputs& outputs) const;
+
+  /// The same energy (same parameters) over another triangle topology of numVertices vertices, e.g. a ghost
+  /// mesh (ghost_mesh.hpp). The default throws InvalidInputError: not every energy has one.
+  virtual std::unique_ptr<DeformationEnergy> onTriangles(const Eigen::Matrix3Xi& triangles, Eigen::Index numVertices) const;
+
+  /// sum_i w_i W[references_i, .] prepared for repeated evaluation, or null if this energy has no such form
+  /// (the default; callers then sum the terms). The result refers to this energy, which must outlive it.
+  virtual std::unique_ptr<WeightedReferenceEnergy> weightedReferences(
+      const std::vector<double>& weights, const std::vector<const Eigen::VectorXd*>& references) const;
 
 protected:
   /// Throws InvalidInputError naming the argument if a shape has the wrong size or a non-finite entry.

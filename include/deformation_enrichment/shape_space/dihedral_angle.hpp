@@ -19,6 +19,10 @@ struct HingeAngle {
 double dihedralAngle(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj, const Eigen::Vector3d& xk,
                      const Eigen::Vector3d& xl);
 
+/// The gradient of theta alone (hot loops: no 12 x 12 Hessian to fill or copy).
+Eigen::Matrix<double, 12, 1> dihedralAngleGradient(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj,
+                                                   const Eigen::Vector3d& xk, const Eigen::Vector3d& xl);
+
 /// theta, its gradient and (if withHessian) its Hessian; without it the Hessian is set to zero.
 HingeAngle dihedralAngleDerivatives(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj,
                                     const Eigen::Vector3d& xk, const Eigen::Vector3d& xl, bool withHessian);

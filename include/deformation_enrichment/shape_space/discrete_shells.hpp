@@ -98,6 +98,16 @@ public:
   void evaluate(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed,
                 const EnergyOutputs& outputs) const override;
 
+  /// DiscreteShells with the same parameters and thread count over `triangles`.
+  std::unique_ptr<DeformationEnergy> onTriangles(const Eigen::Matrix3Xi& triangles, Eigen::Index numVertices) const override;
+
+  /// sum_i w_i W[x_i, .] in one pass per evaluation (discrete_shells_average.cpp): every term is linear in
+  /// per-element reference data (see there), so the examples aggregate into one effective reference.
+  /// Value and gradient only. Throws InvalidInputError for mismatched sizes, negative or non-finite
+  /// weights, or non-finite or degenerate references.
+  std::unique_ptr<WeightedReferenceEnergy> weightedReferences(
+      const std::vector<double>& weights, const std::vector<const Eigen::VectorXd*>& references) const override;
+
   /// Membrane and bending parts separately (bending already multiplied by bendingWeight).
   double membraneValue(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const;
   double bendingValue(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const;
@@ -108,6 +118,10 @@ public:
 
   const DiscreteShellsParameters& parameters() const { return parameters_; }
   Eigen::Index numTriangles() const { return triangles_.cols(); }
+  const Eigen::Matrix3Xi& triangles() const { return triangles_; }
+  const std::vector<Eigen::Vector2i>& edges() const { return edges_; }
+  /// (i, j, k, l): edge i -> j as in triangle (i, j, k), l the opposite corner of the other triangle.
+  const std::vector<Eigen::Vector4i>& hinges() const { return hinges_; }
   Eigen::Index numEdges() const { return static_cast<Eigen::Index>(edges_.size()); }
   Eigen::Index numHinges() const { return static_cast<Eigen::Index>(hinges_.size()); }
   Eigen::Index numBoundaryEdges() const { return numBoundaryEdges_; }

@@ -28,6 +28,9 @@ struct AverageResult {
   /// Newton stopped because three steps in a row lowered the objective by less than 1e-13 relative (a
   /// minimiser to double precision, though the gradient test was not met).
   bool stalledAtRoundOff = false;
+  /// Reduced solver only: q with shape = origin + basis q (lets a ghost-mesh solve be lifted to the fine mesh).
+  Eigen::VectorXd reducedCoordinates;
+  int evaluations = 0;  ///< objective evaluations (reduced solver only)
 };
 
 /// Weighted elastic average of `examples` (flat 3V vectors), Newton started at `initial`.

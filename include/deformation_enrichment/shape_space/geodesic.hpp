@@ -1,8 +1,12 @@
 #pragma once
 // Discrete geodesics between two shapes (paper 004 §5-6): temporal coarse-to-fine refinement. Starting
 // from the two end shapes, every level inserts `insertPerSegment` shapes between successive shapes
-// (initialised by rigid-aware interpolation) and runs the smoothing flow (eq. 2, ends fixed) until the
-// squared norm of the (reduced) gradient of eq. 4 falls below the stopping rule.
+// (initialised by rigid-aware interpolation) and then either
+//  - PathEnergy (default): minimises eq. 4 over all inner shapes at once (geodesic_path.hpp), reduced
+//    (Newton over the subspace coordinates, energies on the ghost mesh if the mesh is larger than it) or
+//    full (Newton), until the squared norm of the (reduced) gradient of eq. 4 meets the stopping rule; or
+//  - Flow: runs the smoothing flow (eq. 2, ends fixed) until its (reduced) residual meets the rule (the
+//    paper's own scheme; with eq. 10 averages its limit is an eq. 10-geodesic, not a critical point of eq. 4).
 #include <vector>
 
 #include <Eigen/Core>
@@ -12,20 +16,26 @@
 
 namespace deformation_enrichment::shape_space {
 
+enum class GeodesicSolver { PathEnergy, Flow };
+
 struct GeodesicOptions {
   int shapes = 8;              ///< shapes on the final path, ends included (>= 3)
   int insertPerSegment = 2;    ///< paper: two or three
-  FlowOptions flow;            ///< tau, reduced/full, subspace size, symmetric averaging (closed is ignored)
-  /// Stop a level when |reduced residual|^2 (SmoothingFlow::reducedResidualSquaredNorm: the gradient of
-  /// eq. 4 with symmetric averaging) <= absoluteFactor * dof (the paper's rule with 1e-8)
+  GeodesicSolver solver = GeodesicSolver::PathEnergy;
+  /// reduced/full, subspace size and ghost mesh for both solvers; tau and averaging for Flow only
+  /// (closed is ignored).
+  FlowOptions flow;
+  /// Stop a level when the squared gradient norm (PathEnergy: reduced gradient of eq. 4; Flow:
+  /// SmoothingFlow::reducedResidualSquaredNorm) <= absoluteFactor * dof (the paper's rule with 1e-8)
   /// or <= relativeFactor * (its value at the start of the level).
   double absoluteFactor = 1e-8;
   double relativeFactor = 1e-10;
-  int maxIterationsPerLevel = 1000;
-  /// Reduced mode: after a level meets the rule in its subspace, the full-space residual is checked; if it
-  /// fails the rule, the flow tangents (eq. 9) of the current curve are added to the subspace and the flow
-  /// continues, at most this many times per level (paper 004 uses a Krylov enrichment of [vTSSH15] here).
-  int enrichmentRounds = 4;
+  int maxIterationsPerLevel = 1000;  ///< flow steps (Flow) or Newton iterations (PathEnergy)
+  /// Reduced mode: after a level meets the rule in its subspace, directions of eq. 9 at the current path
+  /// (flow tangents for Flow, pathTangents for PathEnergy) are added to the subspace and the level is
+  /// solved again, at most this many times (paper 004 uses a Krylov enrichment of [vTSSH15] here). Without
+  /// a ghost mesh a round is skipped once the unprojected full-space gradient meets the rule.
+  int enrichmentRounds = 1;
   bool requireConvergence = true;  ///< throw NumericalError instead of returning an unconverged path
 };
 
@@ -33,10 +43,13 @@ struct GeodesicResult {
   std::vector<Eigen::VectorXd> shapes;
   double pathEnergy = 0.0;            ///< eq. 4
   double length = 0.0;                ///< sum_k sqrt((E(x_k, x_k+1) + E(x_k+1, x_k)) / 2)
-  std::vector<double> pathEnergyHistory;  ///< after every flow step, all levels
-  int iterations = 0;
+  /// eq. 4 on the full mesh after every flow step (Flow) or every level and enrichment round (PathEnergy)
+  std::vector<double> pathEnergyHistory;
+  int iterations = 0;                 ///< flow steps (Flow) or Newton iterations (PathEnergy)
+  int evaluations = 0;                ///< PathEnergy: evaluations of eq. 4 with gradient (2K energy passes each)
+  Eigen::Index ghostVertices = 0;     ///< vertices of the ghost mesh used (0: none)
   bool converged = false;
-  double finalGradientSquaredNorm = 0.0;      ///< the stopping rule's residual (reduced in reduced mode)
+  double finalGradientSquaredNorm = 0.0;      ///< the stopping rule's residual (reduced / ghost in those modes)
   double finalFullResidualSquaredNorm = 0.0;  ///< the same residual unprojected
 };
 

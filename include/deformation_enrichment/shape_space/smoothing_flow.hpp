@@ -4,12 +4,14 @@
 // with w_- = w_+ = tau/2 (fixed) or the proportion-preserving weights; open curves keep x_0 and x_m fixed,
 // closed curves wrap around. Every shape is updated from the previous iterate (Jacobi, as eq. 2 is
 // written), optionally in parallel. Step control: tau is halved until the path energy (eq. 4) decreases.
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "deformation_enrichment/shape_space/deformation_energy.hpp"
 #include "deformation_enrichment/shape_space/elastic_average.hpp"
+#include "deformation_enrichment/shape_space/ghost_mesh.hpp"
 #include "deformation_enrichment/shape_space/reduced_average.hpp"
 #include "deformation_enrichment/shape_space/shape_sequence.hpp"
 
@@ -33,15 +35,21 @@ struct FlowOptions {
   bool reduced = false;              ///< reduced (subspace + L-BFGS) instead of full-space Newton
   int subspaceDimension = 16;        ///< PCA directions of the sequence (reduced mode)
   int flowDirectionShapes = 20;      ///< below this many shapes, flow tangents enrich the subspace (paper: 20)
+  /// Reduced mode: approximate the reduced energies and gradients on a ghost mesh (paper 004 §6) of the
+  /// first shape when the mesh has more than ghostMesh.targetVertices vertices. The averages, the step
+  /// control and the residuals then use the ghost energy; the shapes stay fine (same reduced coordinates).
+  bool useGhostMesh = true;
+  GhostMeshOptions ghostMesh;
   /// Solve the shapes' averages in parallel (OpenMP over shapes; meshes of >= 1000 vertices only). Needs
-  /// an energy that is safe to call from several threads (DiscreteShells is). Off: the energy parallelises.
+  /// an energy that is safe to call from several threads (DiscreteShells is). Off: the energy parallelises
+  /// (but eq. 10 averages with aggregated references, see DeformationEnergy::weightedReferences, run serially).
   bool parallelShapes = false;
   AverageOptions full;
   ReducedAverageOptions reducedSolver;
 };
 
 struct FlowStep {
-  double pathEnergy = 0.0;  ///< eq. 4 after the step
+  double pathEnergy = 0.0;  ///< eq. 4 after the step (of the ghost shapes if a ghost mesh is used)
   double tau = 0.0;         ///< step size that was accepted
   int halvings = 0;
   bool stalled = false;     ///< no tau decreased the path energy: the sequence was left unchanged
@@ -67,7 +75,12 @@ public:
   std::vector<Eigen::VectorXd> pathGradient() const;
   /// Squared norm of the path gradient projected on each free shape's subspace (full mode: plain norm).
   double reducedPathGradientSquaredNorm() const;
-  /// Squared norm of the flow's own fixed-point residual, projected like reducedPathGradientSquaredNorm:
+  /// eq. 4 of the ghost shapes (the quantity the step control lowers with a ghost mesh); else pathEnergy().
+  double controlledPathEnergy() const { return controlledPathEnergy(current_.shapes); }
+  /// Vertices of the ghost mesh in use (0: none).
+  Eigen::Index ghostVertices() const { return ghost_ ? ghost_->numVertices() : 0; }
+  /// Squared norm of the flow's own fixed-point residual, projected like reducedPathGradientSquaredNorm
+  /// (on the ghost mesh if one is used):
   /// eq. 3 for the symmetric average (eq. 1); d2 E(x_{i-1}, x_i) + d2 E(x_{i+1}, x_i) for eq. 10, whose
   /// fixed points are the eq. 10-geodesics of paper 004 Table 2 (they differ slightly from eq. 3's).
   double reducedResidualSquaredNorm() const;
@@ -82,6 +95,10 @@ public:
 
 private:
   std::vector<Eigen::VectorXd> trialStep(double tau, int* iterations) const;
+  double controlledPathEnergy(const std::vector<Eigen::VectorXd>& shapes) const;
+  /// The energy and shapes the averages work on: the ghost's, or the fine ones.
+  const DeformationEnergy& evaluated() const { return ghostEnergy_ ? *ghostEnergy_ : energy_; }
+  std::vector<Eigen::VectorXd> evaluatedShapes(const std::vector<Eigen::VectorXd>& shapes) const;
   bool isFree(int i) const;
 
   const DeformationEnergy& energy_;
@@ -89,7 +106,12 @@ private:
   ShapeSequence current_;
   FlowOptions options_;
   std::vector<char> restored_;
-  std::vector<ReducedSpace> spaces_;  ///< per shape (reduced mode)
+  std::vector<ReducedSpace> spaces_;  ///< per shape (reduced mode), on the ghost mesh if one is used
+  std::shared_ptr<const Eigen::MatrixXd> fineBasis_;  ///< reduced mode: the shared basis on the fine mesh
+  std::vector<Eigen::VectorXd> fineOrigins_;          ///< reduced mode: shape i = fineOrigins_[i] + B q
+  double lastControlled_ = -1.0;  ///< controlledPathEnergy() of current_ after a step (< 0: unknown)
+  std::unique_ptr<GhostMesh> ghost_;
+  std::unique_ptr<DeformationEnergy> ghostEnergy_;
   std::vector<Eigen::VectorXd> extraDirections_;
 };
 

@@ -26,16 +26,24 @@ struct GeodesicSetup {
 TEST(Geodesic, RigidlyMovedCopyIsJoinedByTheRigidPath) {
   GeodesicSetup s;
   const Eigen::VectorXd b = moved(s.a, someRotation(1.1), Eigen::Vector3d(0.5, 1.0, -2.0));
-  ss::GeodesicOptions opt;
-  opt.shapes = 5;
-  const ss::GeodesicResult g = ss::geodesic(s.energy, s.base.triangles, s.a, b, opt);
-  ASSERT_EQ(g.shapes.size(), 5u);
   const double scale = s.energy.value(s.a, s.b);  // a non-rigid pair for scale
-  EXPECT_LT(g.pathEnergy, 1e-12 * scale);
-  EXPECT_TRUE(g.converged);
-  for (const auto& x : g.shapes) {  // every shape is a rigid copy of a
-    const ss::RigidTransform m = ss::kabsch(s.a, x);
-    EXPECT_LT((ss::applyRigid(m, s.a) - x).norm(), 1e-9 * s.a.norm());
+  for (const auto solver : {ss::GeodesicSolver::PathEnergy, ss::GeodesicSolver::Flow}) {
+    for (const bool reduced : {false, true}) {
+      SCOPED_TRACE(std::string(solver == ss::GeodesicSolver::Flow ? "flow" : "path energy") +
+                   (reduced ? " reduced" : " full"));
+      ss::GeodesicOptions opt;
+      opt.shapes = 5;
+      opt.solver = solver;
+      opt.flow.reduced = reduced;
+      const ss::GeodesicResult g = ss::geodesic(s.energy, s.base.triangles, s.a, b, opt);
+      ASSERT_EQ(g.shapes.size(), 5u);
+      EXPECT_LT(g.pathEnergy, 1e-12 * scale);
+      EXPECT_TRUE(g.converged);
+      for (const auto& x : g.shapes) {  // every shape is a rigid copy of a
+        const ss::RigidTransform m = ss::kabsch(s.a, x);
+        EXPECT_LT((ss::applyRigid(m, s.a) - x).norm(), 1e-9 * s.a.norm());
+      }
+    }
   }
 }
 
@@ -43,6 +51,7 @@ TEST(Geodesic, FlowShortensTheInterpolationAndSatisfiesTheStoppingRule) {
   GeodesicSetup s;
   ss::GeodesicOptions opt;
   opt.shapes = 5;
+  opt.solver = ss::GeodesicSolver::Flow;
   opt.flow.tau = 1.0;
   opt.flow.symmetricAverage = true;  // eq. 1: the limit is the critical point of eq. 4 (constant speed)
   const ss::GeodesicResult g = ss::geodesic(s.energy, s.base.triangles, s.a, s.b, opt);
@@ -60,10 +69,11 @@ TEST(Geodesic, FlowShortensTheInterpolationAndSatisfiesTheStoppingRule) {
   EXPECT_LT(hi / lo, 1.05);
 }
 
-TEST(Geodesic, ReducedAndFullLengthsAgreeWithinPointOnePercent) {
+TEST(Geodesic, FlowReducedAndFullLengthsAgreeWithinPointOnePercent) {
   GeodesicSetup s;
   ss::GeodesicOptions full;
   full.shapes = 5;
+  full.solver = ss::GeodesicSolver::Flow;
   full.flow.tau = 1.0;
   // eq. 1 averaging: both modes then minimise eq. 4, so their lengths are comparable (with eq. 10 the
   // flow is not a gradient flow and the reduced limit is a different fixed point; paper 004 Table 2).

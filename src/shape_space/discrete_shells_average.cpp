@@ -1,0 +1,266 @@
+// DiscreteShells::weightedReferences: sum_i w_i W[x_i, y] (the eq. 10 objective) in one pass over the mesh.
+// Every term of the shell energy is, for a fixed deformed element, linear in functions of the reference
+// element alone, so the weighted examples aggregate into per-element coefficients computed once:
+//  - hyperelastic face (Heeren et al. 2012 eq. 8): A_bar (mu/2 tr G + lambda/4 det G - (mu + lambda/2) log(A/A_bar)
+//    - mu - lambda/4) with tr G = sum_m q_m c_m(q_bar) / (8 A_bar^2), det G = A^2 / A_bar^2, so the sum is
+//    sum_m C_m q_m + D A^2 - S log A + const;
+//  - classic edge / area terms: k (1 - l/l_bar)^2 l_bar = k (l - l_bar)^2 / l_bar, so the sum is
+//    k a (l - l_star)^2 + k sum_i w_i (l_bar_i - l_star)^2 / l_bar_i with a = sum_i w_i / l_bar_i and
+//    l_star = (sum_i w_i) / a (no cancellation: for one example this is the original form);
+//  - bending: sum_i w_i omega_i (theta - theta_bar_i)^2 = Omega (theta - theta_star)^2 + const with
+//    Omega = sum_i w_i omega_i and theta_star the omega-weighted mean of theta_bar_i.
+// The evaluation then costs one deformed-only pass instead of one full pass per example.
+#include <cmath>
+#include <string>
+
+#include <Eigen/Geometry>
+
+#include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/shape_space/dihedral_angle.hpp"
+#include "deformation_enrichment/shape_space/discrete_shells.hpp"
+#include "shell_elements.hpp"
+
+namespace deformation_enrichment::shape_space {
+namespace {
+
+using detail::LocalEdge;
+using detail::LocalTerm;
+
+constexpr double kDegenerateAreaRatio = 1e-8;  // as DiscreteShells::checkTriangles
+constexpr std::array<LocalEdge, 3> kTriangleEdges{{{1, 2}, {2, 0}, {0, 1}}};  // edge m opposite corner m
+constexpr std::array<LocalEdge, 0> kNoEdges{};
+constexpr std::array<LocalEdge, 1> kEdge{{{0, 1}}};
+
+template <int NV, class Index>
+std::array<Eigen::Vector3d, NV> gatherCorners(const Eigen::VectorXd& shape, const Index& vertices) {
+  std::array<Eigen::Vector3d, NV> x;
+  for (int a = 0; a < NV; ++a) x[size_t(a)] = shape.segment<3>(3 * vertices[a]);
+  return x;
+}
+
+std::array<double, 3> squaredLengths(const std::array<Eigen::Vector3d, 3>& x) {
+  return {(x[1] - x[2]).squaredNorm(), (x[2] - x[0]).squaredNorm(), (x[0] - x[1]).squaredNorm()};
+}
+
+bool degenerate(const std::array<Eigen::Vector3d, 3>& x) {
+  const double doubleArea = (x[1] - x[0]).cross(x[2] - x[0]).norm();
+  const std::array<double, 3> q = squaredLengths(x);
+  return !(doubleArea > 2.0 * kDegenerateAreaRatio * (q[0] + q[1] + q[2]));
+}
+
+class ShellWeightedReferences final : public WeightedReferenceEnergy {
+public:
+  ShellWeightedReferences(const DiscreteShells& shells, const std::vector<double>& weights,
+                          const std::vector<const Eigen::VectorXd*>& references)
+      : shells_(shells), hyperelastic_(shells.parameters().membrane == MembraneModel::Hyperelastic) {
+    const DiscreteShellsParameters& p = shells.parameters();
+    const Eigen::Index numTriangles = shells.numTriangles();
+    faces_.assign(size_t(numTriangles), {});
+    if (!hyperelastic_) edges_.assign(shells.edges().size(), {});
+    hinges_.assign(shells.hinges().size(), {});
+    std::vector<double> thetaFirst(hinges_.size(), 0.0), omegaTheta(hinges_.size(), 0.0), omegaTheta2(hinges_.size(), 0.0);
+    const double hingeFactor = hyperelastic_ ? 1.0 : 3.0;
+    bool first = true;
+    for (size_t i = 0; i < references.size(); ++i) {
+      const double w = weights[i];
+      if (w == 0.0) continue;
+      const Eigen::VectorXd& ref = *references[i];
+      for (Eigen::Index t = 0; t < numTriangles; ++t) {
+        const auto x = gatherCorners<3>(ref, shells.triangles().col(t));
+        if (degenerate(x))
+          throw InvalidInputError("DiscreteShells: triangle " + std::to_string(t) + " of reference " + std::to_string(i) +
+                                  " is degenerate");
+        const std::array<double, 3> r = squaredLengths(x);
+        const double area = detail::triangleArea(r[0], r[1], r[2]);
+        Face& f = faces_[size_t(t)];
+        if (hyperelastic_) {
+          const double c = 0.5 * p.mu / (8.0 * area);
+          f.linear[0] += w * c * (r[1] + r[2] - r[0]);
+          f.linear[1] += w * c * (r[2] + r[0] - r[1]);
+          f.linear[2] += w * c * (r[0] + r[1] - r[2]);
+          f.quadratic += w * 0.25 * p.lambda / area;
+          // -S log A is evaluated as -S log(A / scale) (scale: the first example's area) so that the large
+          // log terms cancel per face, not across the mesh.
+          if (first) f.scale = area;
+          f.logarithmic += w * area * (p.mu + 0.5 * p.lambda);
+          f.constant += w * area * ((p.mu + 0.5 * p.lambda) * std::log(area / f.scale) - p.mu - 0.25 * p.lambda);
+        } else {  // k_A (A - A_bar)^2 / A_bar: sum w and sum w / A_bar here, the rest below
+          f.linear[0] += w;
+          f.quadratic += w / area;
+        }
+      }
+      if (!hyperelastic_) {
+        for (size_t e = 0; e < edges_.size(); ++e) {  // k_L (l - l_bar)^2 / l_bar, as the faces
+          edges_[e].linear += w;
+          edges_[e].quadratic += w / referenceLength(ref, e);
+        }
+      }
+      if (p.bendingWeight > 0.0) {
+        for (size_t h = 0; h < hinges_.size(); ++h) {
+          const auto x = gatherCorners<4>(ref, shells.hinges()[h]);
+          double theta = dihedralAngle(x[0], x[1], x[2], x[3]);
+          // Unwrapped against the first example so that hinges near +-pi aggregate consistently.
+          if (first) thetaFirst[h] = theta;
+          else theta = thetaFirst[h] + std::remainder(theta - thetaFirst[h], 2.0 * M_PI);
+          const std::array<double, 5> q{(x[0] - x[1]).squaredNorm(), (x[1] - x[2]).squaredNorm(), (x[2] - x[0]).squaredNorm(),
+                                        (x[0] - x[3]).squaredNorm(), (x[3] - x[1]).squaredNorm()};
+          const double omega = w * p.bendingWeight * detail::hingeWeight(q, hingeFactor);
+          hinges_[h].omega += omega;
+          omegaTheta[h] += omega * theta;
+          omegaTheta2[h] += omega * (theta - thetaFirst[h]) * (theta - thetaFirst[h]);  // shifted: no cancellation
+        }
+      }
+      first = false;
+    }
+    if (!hyperelastic_) classicTargets(weights, references);
+    for (size_t h = 0; h < hinges_.size(); ++h) {
+      if (!(hinges_[h].omega > 0.0)) continue;
+      hinges_[h].theta = omegaTheta[h] / hinges_[h].omega;
+      const double shift = hinges_[h].theta - thetaFirst[h];
+      constant_ += omegaTheta2[h] - hinges_[h].omega * shift * shift;  // sum_i omega_i (theta_bar_i - theta_star)^2
+    }
+  }
+
+  double evaluate(const Eigen::VectorXd& y, Eigen::VectorXd* gradient) const override {
+    const Eigen::Index n = 3 * shells_.numVertices();
+    if (y.size() != n)
+      throw InvalidInputError("DiscreteShells: deformed shape has " + std::to_string(y.size()) + " entries, expected " +
+                              std::to_string(n));
+    if (!y.allFinite()) throw InvalidInputError("DiscreteShells: deformed shape is not finite");
+    const unsigned need = detail::kValue | (gradient ? unsigned(detail::kGradientDeformed) : 0u);
+    if (gradient) gradient->setZero(n);
+    double value = constant_;
+    const auto scatter = [&](const auto& term, const auto& vertices, int count) {
+      value += term.value;
+      if (gradient)
+        for (int a = 0; a < count; ++a) gradient->segment<3>(3 * vertices[a]) += term.gradientDeformed.template segment<3>(3 * a);
+    };
+    for (Eigen::Index t = 0; t < shells_.numTriangles(); ++t) {
+      const Eigen::Vector3i v = shells_.triangles().col(t);
+      const auto x = gatherCorners<3>(y, v);
+      if (degenerate(x))
+        throw InvalidInputError("DiscreteShells: triangle " + std::to_string(t) + " of the deformed shape is degenerate");
+      const Face& f = faces_[size_t(t)];
+      LocalTerm<3> term(need | detail::kGradientDeformed);  // zeroed either way: read only with a gradient
+      if (hyperelastic_) {
+        detail::addSquaredLengthTerm<3, 3, 0>(
+            [&f](const auto& q) {
+              using std::log;
+              const auto area = detail::triangleArea(q[0], q[1], q[2]);
+              return f.linear[0] * q[0] + f.linear[1] * q[1] + f.linear[2] * q[2] + f.quadratic * area * area -
+                     f.logarithmic * log(area / f.scale) + f.constant;
+            },
+            x, x, kTriangleEdges, kNoEdges, need, 1.0, term);
+      } else {
+        detail::addSquaredLengthTerm<3, 3, 0>(
+            [&f](const auto& q) {
+              const auto area = detail::triangleArea(q[0], q[1], q[2]);
+              return f.quadratic * (area - f.linear[0]) * (area - f.linear[0]) + f.constant;
+            },
+            x, x, kTriangleEdges, kNoEdges, need, 1.0, term);
+      }
+      scatter(term, v, 3);
+    }
+    for (size_t e = 0; e < edges_.size(); ++e) {
+      const Eigen::Vector2i v = shells_.edges()[e];
+      const Edge& coefficients = edges_[e];
+      LocalTerm<2> term(need | detail::kGradientDeformed);
+      detail::addSquaredLengthTerm<2, 1, 0>(
+          [&coefficients](const auto& q) {
+            using std::sqrt;
+            const auto excess = sqrt(q[0]) - coefficients.linear;
+            return coefficients.quadratic * excess * excess;
+          },
+          gatherCorners<2>(y, v), gatherCorners<2>(y, v), kEdge, kNoEdges, need, 1.0, term);
+      scatter(term, v, 2);
+    }
+    for (size_t h = 0; h < hinges_.size(); ++h) {
+      const Hinge& hinge = hinges_[h];
+      if (!(hinge.omega > 0.0)) continue;
+      const Eigen::Vector4i v = shells_.hinges()[h];
+      const auto x = gatherCorners<4>(y, v);
+      if (!gradient) {
+        const double d = std::remainder(dihedralAngle(x[0], x[1], x[2], x[3]) - hinge.theta, 2.0 * M_PI);
+        value += hinge.omega * d * d;
+        continue;
+      }
+      const double d = std::remainder(dihedralAngle(x[0], x[1], x[2], x[3]) - hinge.theta, 2.0 * M_PI);
+      value += hinge.omega * d * d;
+      const Eigen::Matrix<double, 12, 1> dTheta = dihedralAngleGradient(x[0], x[1], x[2], x[3]);
+      for (int a = 0; a < 4; ++a) gradient->segment<3>(3 * v[a]) += 2.0 * hinge.omega * d * dTheta.segment<3>(3 * a);
+    }
+    return value;
+  }
+
+private:
+  double referenceLength(const Eigen::VectorXd& ref, size_t e) const {
+    return (ref.segment<3>(3 * shells_.edges()[e][0]) - ref.segment<3>(3 * shells_.edges()[e][1])).norm();
+  }
+
+  // Classic membrane: turns the sums (sum w, sum w / x_bar) into (x_star, k a) and adds
+  // k sum_i w_i (x_bar_i - x_star)^2 / x_bar_i to the constants (a second pass over the examples).
+  void classicTargets(const std::vector<double>& weights, const std::vector<const Eigen::VectorXd*>& references) {
+    const DiscreteShellsParameters& p = shells_.parameters();
+    for (Face& f : faces_) {
+      f.linear[0] = f.quadratic > 0.0 ? f.linear[0] / f.quadratic : 0.0;
+      f.quadratic *= p.areaWeight;
+    }
+    for (Edge& e : edges_) {
+      e.linear = e.quadratic > 0.0 ? e.linear / e.quadratic : 0.0;
+      e.quadratic *= p.lengthWeight;
+    }
+    for (size_t i = 0; i < references.size(); ++i) {
+      const double w = weights[i];
+      if (w == 0.0) continue;
+      for (Eigen::Index t = 0; t < shells_.numTriangles(); ++t) {
+        const std::array<double, 3> r = squaredLengths(gatherCorners<3>(*references[i], shells_.triangles().col(t)));
+        const double area = detail::triangleArea(r[0], r[1], r[2]), excess = area - faces_[size_t(t)].linear[0];
+        faces_[size_t(t)].constant += w * p.areaWeight * excess * excess / area;
+      }
+      for (size_t e = 0; e < edges_.size(); ++e) {
+        const double length = referenceLength(*references[i], e), excess = length - edges_[e].linear;
+        constant_ += w * p.lengthWeight * excess * excess / length;
+      }
+    }
+  }
+
+  struct Face {
+    std::array<double, 3> linear{0.0, 0.0, 0.0};  // hyperelastic: C_m; classic: [0] the target area A_star
+    double quadratic = 0.0;                       // of A^2 (hyperelastic) or (A - A_star)^2 (classic)
+    double logarithmic = 0.0;                     // of -log(A / scale) (hyperelastic)
+    double scale = 1.0;
+    double constant = 0.0;
+  };
+  struct Edge {
+    double linear = 0.0, quadratic = 0.0;  // l_star and the coefficient of (l - l_star)^2
+  };
+  struct Hinge {
+    double omega = 0.0, theta = 0.0;  // bendingWeight-scaled Omega and theta_star
+  };
+
+  const DiscreteShells& shells_;
+  bool hyperelastic_;
+  std::vector<Face> faces_;
+  std::vector<Edge> edges_;
+  std::vector<Hinge> hinges_;
+  double constant_ = 0.0;
+};
+
+}  // namespace
+
+std::unique_ptr<WeightedReferenceEnergy> DiscreteShells::weightedReferences(
+    const std::vector<double>& weights, const std::vector<const Eigen::VectorXd*>& references) const {
+  if (weights.size() != references.size())
+    throw InvalidInputError("DiscreteShells: " + std::to_string(weights.size()) + " weights for " +
+                            std::to_string(references.size()) + " references");
+  for (size_t i = 0; i < references.size(); ++i) {
+    if (!(std::isfinite(weights[i]) && weights[i] >= 0.0))
+      throw InvalidInputError("DiscreteShells: weight " + std::to_string(i) + " is negative or not finite");
+    if (references[i] == nullptr || references[i]->size() != 3 * numVertices_)
+      throw InvalidInputError("DiscreteShells: reference " + std::to_string(i) + " has the wrong size");
+    if (!references[i]->allFinite()) throw InvalidInputError("DiscreteShells: reference " + std::to_string(i) + " is not finite");
+  }
+  return std::make_unique<ShellWeightedReferences>(*this, weights, references);
+}
+
+}  // namespace deformation_enrichment::shape_space

@@ -1,0 +1,64 @@
+// DiscreteShells::weightedReferences: the aggregated eq. 10 objective equals the sum of the terms (value
+// and gradient), its gradient matches finite differences, and bad input is rejected.
+#include <gtest/gtest.h>
+
+#include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/shape_space/discrete_shells.hpp"
+#include "shell_test_meshes.hpp"
+
+namespace ss = deformation_enrichment::shape_space;
+namespace de = deformation_enrichment;
+using namespace ss::test;
+
+TEST(WeightedReferences, EqualTheSumOfTermsForBothMembranesWithGradient) {
+  const FlatMesh mesh = bumpyGrid(6, 4);
+  const std::vector<Eigen::VectorXd> refs{perturbed(mesh.vertices, 0.03, 1), perturbed(mesh.vertices, 0.03, 2),
+                                          perturbed(mesh.vertices, 0.03, 3)};
+  const std::vector<double> weights{0.25, 0.0, 0.6};
+  const std::vector<const Eigen::VectorXd*> pointers{&refs[0], &refs[1], &refs[2]};
+  const Eigen::VectorXd y = perturbed(mesh.vertices, 0.04, 9);
+  for (const auto& parameters : {ss::DiscreteShellsParameters::classic(), ss::DiscreteShellsParameters::hyperelastic(0.05)}) {
+    const ss::DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, parameters);
+    double sum = 0.0;
+    Eigen::VectorXd gradientSum = Eigen::VectorXd::Zero(y.size());
+    for (size_t i = 0; i < refs.size(); ++i) {
+      sum += weights[i] * energy.value(refs[i], y);
+      gradientSum += weights[i] * energy.gradientDeformed(refs[i], y);
+    }
+    const auto aggregated = energy.weightedReferences(weights, pointers);
+    ASSERT_TRUE(aggregated);
+    Eigen::VectorXd gradient;
+    EXPECT_NEAR(aggregated->evaluate(y, &gradient), sum, 1e-11 * sum);
+    EXPECT_NEAR(aggregated->evaluate(y, nullptr), sum, 1e-11 * sum);
+    EXPECT_LT((gradient - gradientSum).norm(), 1e-10 * gradientSum.norm());
+    // Finite differences of the aggregated value itself.
+    const double h = 1e-6;
+    for (Eigen::Index i : {Eigen::Index(0), Eigen::Index(40), y.size() - 2}) {
+      Eigen::VectorXd plus = y, minus = y;
+      plus[i] += h;
+      minus[i] -= h;
+      const double fd = (aggregated->evaluate(plus, nullptr) - aggregated->evaluate(minus, nullptr)) / (2 * h);
+      EXPECT_NEAR(gradient[i], fd, 1e-6 * std::max(1.0, std::abs(fd)));
+    }
+  }
+}
+
+TEST(WeightedReferences, BadInputGivesClearErrors) {
+  const FlatMesh mesh = bumpyGrid(4, 4);
+  const ss::DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3);
+  const Eigen::VectorXd x = mesh.vertices;
+  EXPECT_THROW(energy.weightedReferences({1.0, 2.0}, {&x}), de::InvalidInputError);
+  EXPECT_THROW(energy.weightedReferences({-1.0}, {&x}), de::InvalidInputError);
+  Eigen::VectorXd nan = x;
+  nan[3] = std::nan("");
+  EXPECT_THROW(energy.weightedReferences({1.0}, {&nan}), de::InvalidInputError);
+  const Eigen::VectorXd shorter = x.head(x.size() - 3);
+  EXPECT_THROW(energy.weightedReferences({1.0}, {&shorter}), de::InvalidInputError);
+  Eigen::VectorXd flat = x;  // triangle 0 = (0, 1, 5): vertex 5 moved onto the segment 0-1
+  flat.segment<3>(15) = 0.5 * (x.segment<3>(0) + x.segment<3>(3));
+  EXPECT_THROW(energy.weightedReferences({1.0}, {&flat}), de::InvalidInputError);
+  const auto aggregated = energy.weightedReferences({1.0}, {&x});
+  EXPECT_THROW(aggregated->evaluate(flat, nullptr), de::InvalidInputError);
+  EXPECT_THROW(aggregated->evaluate(nan, nullptr), de::InvalidInputError);
+  EXPECT_THROW(aggregated->evaluate(shorter, nullptr), de::InvalidInputError);
+}
