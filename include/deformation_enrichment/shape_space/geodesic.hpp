@@ -19,6 +19,9 @@ namespace deformation_enrichment::shape_space {
 enum class GeodesicSolver { PathEnergy, Flow };
 
 struct GeodesicOptions {
+  /// No ghost mesh by default: on the finger it lengthens the geodesic by 3 % for a 1.1x saving (README).
+  GeodesicOptions() { flow.useGhostMesh = false; }
+
   int shapes = 8;              ///< shapes on the final path, ends included (>= 3)
   int insertPerSegment = 2;    ///< paper: two or three
   GeodesicSolver solver = GeodesicSolver::PathEnergy;
