@@ -119,6 +119,10 @@ Eigen::Vector3d ContactEnricher::currentNormal(const Eigen::Matrix3Xd& current, 
 
 ContactDescription ContactEnricher::describe(const Eigen::Matrix3Xd& current, const Contact& contact) const {
   checkState(current);
+  return describeValidState(current, contact);
+}
+
+ContactDescription ContactEnricher::describeValidState(const Eigen::Matrix3Xd& current, const Contact& contact) const {
   if (!contact.point.allFinite()) throw InvalidInputError("contact enricher: non-finite contact point");
   if (contact.normal && !contact.normal->allFinite()) throw InvalidInputError("contact enricher: non-finite contact normal");
   ContactDescription d;
@@ -166,7 +170,7 @@ void ContactEnricher::enrich(const Eigen::Matrix3Xd& current, const std::vector<
     auto t0 = Clock::now();
     ContactOutcome outcome;
     outcome.toolId = contacts[c].toolId;
-    outcome.description = describe(current, contacts[c]);
+    outcome.description = describeValidState(current, contacts[c]);  // the state was checked once above
     out.timings.descriptorSeconds += secondsSince(t0);
     t0 = Clock::now();
     blender_->blend(outcome.description.rho, outcome.description.mu, blendScratch_);  // eq. 15 -> RBF -> eq. 16

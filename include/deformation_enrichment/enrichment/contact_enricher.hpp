@@ -110,6 +110,8 @@ public:
   void apply(const EnrichmentResult& result, Eigen::Matrix3Xd& state) const { mapper_.apply(result.enrichment, state); }
 
 private:
+  /// describe() for a state that passed checkState().
+  ContactDescription describeValidState(const Eigen::Matrix3Xd& current, const Contact& contact) const;
   Eigen::Vector3d currentNormal(const Eigen::Matrix3Xd& current, int vertex) const;
   void checkState(const Eigen::Matrix3Xd& current) const;
 
