@@ -31,6 +31,18 @@ namespace enrichment_test {
 
 using de::ros_layer::cloudFromPositions;
 
+/// Spins until `condition` holds or `seconds` of wall time pass; returns the condition's last value.
+inline bool waitFor(const std::function<bool()>& condition, double seconds) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+  while (ros::ok() && ros::WallTime::now() < end) {
+    ros::spinOnce();
+    if (condition()) return true;
+    ros::WallDuration(0.005).sleep();
+  }
+  ros::spinOnce();
+  return condition();
+}
+
 inline de::mesh::TriangleMesh slabSurface(int cells) {
   return de::mesh::extractSurface(de::mesh::gridTetMesh(Eigen::Vector3d(-0.05, -0.05, 0), Eigen::Vector3d(0.05, 0.05, 0.02),
                                                         Eigen::Vector3i(cells, cells, 1)))
@@ -56,17 +68,6 @@ protected:
     }, 20.0))
         << "the enrichment node did not come up";
     setRest(slabSurface(8));
-  }
-
-  static bool waitFor(const std::function<bool()>& condition, double seconds) {
-    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-    while (ros::ok() && ros::WallTime::now() < end) {
-      ros::spinOnce();
-      if (condition()) return true;
-      ros::WallDuration(0.005).sleep();
-    }
-    ros::spinOnce();
-    return condition();
   }
 
   std_msgs::Header header() {

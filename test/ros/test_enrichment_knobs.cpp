@@ -17,6 +17,7 @@ using de::ros_layer::cloudFromPositions;
 using de::ros_layer::positionsFromCloud;
 using enrichment_test::makeDentExampleSet;
 using enrichment_test::slabSurface;
+using enrichment_test::waitFor;
 
 class EnrichmentKnobsTest : public enrichment_test::EnrichmentNodeTest {
 protected:

@@ -14,6 +14,7 @@ using de::ros_layer::cloudFromPositions;
 using enrichment_test::EnrichmentNodeTest;
 using enrichment_test::makeDentExampleSet;
 using enrichment_test::slabSurface;
+using enrichment_test::waitFor;
 
 TEST_F(EnrichmentNodeTest, EnrichedStateKeepsStampFrameLayoutAndStatusFollows) {
   const sensor_msgs::PointCloud2 cloud = goodState();

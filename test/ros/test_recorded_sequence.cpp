@@ -18,10 +18,11 @@
 #include "deformation_enrichment/enrichment/contact_enricher.hpp"
 #include "deformation_enrichment/examples/example_set_io.hpp"
 #include "deformation_enrichment/ros/conversions.hpp"
-
-namespace de = deformation_enrichment;
+#include "enrichment_node_fixture.hpp"
 
 namespace {
+
+using enrichment_test::waitFor;
 
 constexpr double kRadius = 0.02;    // stamp radius of the test's example
 constexpr double kDetail = 0.001;   // the example's stamp: 1 mm into the surface
@@ -61,17 +62,6 @@ protected:
              enrichedSub_.getNumPublishers() > 0;
     }, 20.0)) << "the enrichment node did not come up";
     restPub_.publish(restMessage_);
-  }
-
-  static bool waitFor(const std::function<bool()>& condition, double seconds) {
-    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-    while (ros::ok() && ros::WallTime::now() < end) {
-      ros::spinOnce();
-      if (condition()) return true;
-      ros::WallDuration(0.005).sleep();
-    }
-    ros::spinOnce();
-    return condition();
   }
 
   /// Sends a frame (contacts first, as the scene does) and returns the node's output positions for it
