@@ -14,6 +14,7 @@
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/ros/contact_tracker.hpp"
+#include "deformation_enrichment/mesh/closest_point_on_triangle.hpp"
 #include "deformation_enrichment/ros/tool_tip.hpp"
 
 namespace de = deformation_enrichment;
@@ -85,7 +86,7 @@ TEST(ToolTipGeometry, TriangleDistanceMatchesADenseSamplingOfTheTriangle) {
       Eigen::Vector3d closest;
       const double d = tip.triangleDistance(a, b, c, &closest);
       EXPECT_NEAR(tip.signedDistance(closest), d, 1e-12) << link << " trial " << trial << ": the point attains the distance";
-      EXPECT_NEAR((closest - de::ros_layer::closestPointOnTriangle(closest, a, b, c)).norm(), 0.0, 1e-12) << "on the triangle";
+      EXPECT_NEAR((closest - de::mesh::closestPointOnTriangle(closest, a, b, c)).norm(), 0.0, 1e-12) << "on the triangle";
       if (sampled > 0.0) {  // disjoint: alternating projections find the minimum (to 0.1 um)
         EXPECT_LE(d, sampled + 1e-6) << link << " trial " << trial;
         EXPECT_GE(d, sampled - 2.0 * spacing - 1e-6) << link << " trial " << trial;

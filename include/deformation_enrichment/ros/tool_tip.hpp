@@ -53,10 +53,6 @@ private:
   double boundRadius_ = 0.0;
 };
 
-/// The point of triangle (a, b, c) nearest to p (Voronoi regions of vertices, edges and face).
-Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                       const Eigen::Vector3d& c);
-
 /// The collision geometry of `link` in the URDF text `urdfXml`. Throws InvalidInputError naming the
 /// problem: unparsable URDF, no such link, no collision element, mesh geometry (unsupported), or
 /// non-positive / non-finite dimensions.
