@@ -23,6 +23,11 @@ double dihedralAngle(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj, const
 Eigen::Matrix<double, 12, 1> dihedralAngleGradient(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj,
                                                    const Eigen::Vector3d& xk, const Eigen::Vector3d& xl);
 
+/// theta and its gradient from one set of edge and normal vectors (the hot loops of gradient passes: the
+/// separate calls above would form the cross products twice).
+double dihedralAngleAndGradient(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj, const Eigen::Vector3d& xk,
+                                const Eigen::Vector3d& xl, Eigen::Matrix<double, 12, 1>& gradient);
+
 /// theta, its gradient and (if withHessian) its Hessian; without it the Hessian is set to zero.
 HingeAngle dihedralAngleDerivatives(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj,
                                     const Eigen::Vector3d& xk, const Eigen::Vector3d& xl, bool withHessian);
