@@ -40,6 +40,14 @@ double dihedralAngle(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj, const
   return std::atan2(n1.cross(n2).dot(e) / e.norm(), n1.dot(n2));
 }
 
+Eigen::Vector2d dihedralAngleVector(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj, const Eigen::Vector3d& xk,
+                                    const Eigen::Vector3d& xl) {
+  const Eigen::Vector3d e = xj - xi;
+  const Eigen::Vector3d n1 = e.cross(xk - xi);
+  const Eigen::Vector3d n2 = (xl - xi).cross(e);
+  return {n1.cross(n2).dot(e), e.norm() * n1.dot(n2)};  // dihedralAngle's atan2 arguments times |e|
+}
+
 Eigen::Matrix<double, 12, 1> dihedralAngleGradient(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj,
                                                    const Eigen::Vector3d& xk, const Eigen::Vector3d& xl) {
   return hingeGradient<double>(xi, xj, xk, xl);

@@ -98,15 +98,13 @@ void addHingeTerm(const std::array<Eigen::Vector3d, 4>& x, const std::array<Eige
   HingeAngle theta, thetaBar;
   if (need & detail::kHessianDeformed) {
     theta = dihedralAngleDerivatives(x[0], x[1], x[2], x[3], true);
-  } else {
-    theta.theta = dihedralAngle(x[0], x[1], x[2], x[3]);
-    if (needDeformedAngle) theta.gradient = dihedralAngleGradient(x[0], x[1], x[2], x[3]);
+  } else if (needDeformedAngle) {
+    theta.gradient = dihedralAngleGradient(x[0], x[1], x[2], x[3]);
   }
   if (need & detail::kHessianReference) {
     thetaBar = dihedralAngleDerivatives(xBar[0], xBar[1], xBar[2], xBar[3], true);
-  } else {
-    thetaBar.theta = dihedralAngle(xBar[0], xBar[1], xBar[2], xBar[3]);
-    if (needReferenceDerivatives) thetaBar.gradient = dihedralAngleGradient(xBar[0], xBar[1], xBar[2], xBar[3]);
+  } else if (needReferenceDerivatives) {
+    thetaBar.gradient = dihedralAngleGradient(xBar[0], xBar[1], xBar[2], xBar[3]);
   }
   // w_bar and its derivatives: a function of five reference squared lengths (no deformed ones).
   static constexpr std::array<LocalEdge, 0> kNoEdges{};
@@ -119,8 +117,10 @@ void addHingeTerm(const std::array<Eigen::Vector3d, 4>& x, const std::array<Eige
   detail::addSquaredLengthTerm<4, 0, 5>([c](const auto& q) { return detail::hingeWeight(q, c); }, x, xBar, kNoEdges,
                                         kHingeEdges, weightNeed, 1.0, w);
   // The angle difference is taken modulo 2 pi into [-pi, pi]: a hinge folding through +-pi changes by a
-  // little, not by 2 pi (the derivatives are unaffected; the shift is locally constant).
-  const double d = std::remainder(theta.theta - thetaBar.theta, 2.0 * M_PI);
+  // little, not by 2 pi (the derivatives are unaffected; the shift is locally constant). One atan2 of the
+  // rotation between the two hinges gives it directly (measured: atan2 was a third of a value pass).
+  const double d = dihedralAngleDifference(dihedralAngleVector(x[0], x[1], x[2], x[3]),
+                                           dihedralAngleVector(xBar[0], xBar[1], xBar[2], xBar[3]));
   const double wBar = w.value;
   out.value += weight * d * d * wBar;
   if (need & detail::kGradientDeformed) out.gradientDeformed += weight * 2.0 * d * wBar * theta.gradient;

@@ -132,6 +132,23 @@ TEST(DihedralAngle, GradientAndHessianMatchFiniteDifferences) {
   expectClose(full.hessian, numericJacobian(gradient, x, 1e-6), 1e-6, "d2 theta / dx2");
 }
 
+TEST(DihedralAngle, SharedAngleAndGradientMatchSeparateCallsAndFiniteDifferences) {
+  // A bent hinge and one folded past pi / 2 (the obtuse side of atan2).
+  for (const double lift : {0.35, -2.5}) {
+    VectorXd x(12);
+    x << 0.1, -0.05, 0.02, 1.0, 0.1, -0.03, 0.4, 0.9, lift, 0.6, -0.8, 0.2;
+    auto angle = [](const VectorXd& p) {
+      return dihedralAngle(p.segment<3>(0), p.segment<3>(3), p.segment<3>(6), p.segment<3>(9));
+    };
+    Eigen::Matrix<double, 12, 1> gradient;
+    const double theta = dihedralAngleAndGradient(x.segment<3>(0), x.segment<3>(3), x.segment<3>(6), x.segment<3>(9), gradient);
+    EXPECT_NEAR(theta, angle(x), 1e-15);
+    expectClose(VectorXd(gradient), VectorXd(dihedralAngleGradient(x.segment<3>(0), x.segment<3>(3), x.segment<3>(6), x.segment<3>(9))),
+                1e-13, "shared vs separate gradient");
+    expectClose(VectorXd(gradient), numericGradient(angle, x, 1e-6), 1e-8, "d theta / dx (shared)");
+  }
+}
+
 TEST(DihedralAngle, FlatHingeIsZeroAndFoldingSignIsSymmetric) {
   const Eigen::Vector3d i(0, 0, 0), j(1, 0, 0), k(0.5, 1, 0), l(0.5, -1, 0);
   EXPECT_NEAR(dihedralAngle(i, j, k, l), 0.0, 1e-15);
