@@ -370,7 +370,9 @@ ShellEvaluation DiscreteShells::assemble(const Eigen::VectorXd& reference, const
       const auto x = gather<3>(deformed, v);
       const auto xBar = gather<3>(reference, v);
       LocalTerm<3> term(need);
-      if (hyperelastic) {  // Heeren et al. 2012 eq. 8
+      if (hyperelastic && !(need & detail::kAnyHessian)) {  // Heeren et al. 2012 eq. 8, closed form
+        detail::addHyperelasticFace(x, xBar, p.mu, p.lambda, need, term);
+      } else if (hyperelastic) {  // Heeren et al. 2012 eq. 8
         detail::addSquaredLengthTerm<3, 3, 3>([&p](const auto& q) { return detail::hyperelasticMembrane(q, p.mu, p.lambda); },
                                               x, xBar, kTriangleEdges, kTriangleEdges, need, 1.0, term);
       } else {  // Grinspun et al. 2003 area term
