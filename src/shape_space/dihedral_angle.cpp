@@ -40,9 +40,36 @@ double dihedralAngle(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj, const
   return std::atan2(n1.cross(n2).dot(e) / e.norm(), n1.dot(n2));
 }
 
+Eigen::Vector2d dihedralAngleVector(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj, const Eigen::Vector3d& xk,
+                                    const Eigen::Vector3d& xl) {
+  const Eigen::Vector3d e = xj - xi;
+  const Eigen::Vector3d n1 = e.cross(xk - xi);
+  const Eigen::Vector3d n2 = (xl - xi).cross(e);
+  return {n1.cross(n2).dot(e), e.norm() * n1.dot(n2)};  // dihedralAngle's atan2 arguments times |e|
+}
+
 Eigen::Matrix<double, 12, 1> dihedralAngleGradient(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj,
                                                    const Eigen::Vector3d& xk, const Eigen::Vector3d& xl) {
   return hingeGradient<double>(xi, xj, xk, xl);
+}
+
+double dihedralAngleAndGradient(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj, const Eigen::Vector3d& xk,
+                                const Eigen::Vector3d& xl, Eigen::Matrix<double, 12, 1>& gradient) {
+  // The same formulas as dihedralAngle and hingeGradient, sharing e, |e|, n1 and n2.
+  const Eigen::Vector3d e = xj - xi;
+  const double edgeLength = e.norm();
+  const Eigen::Vector3d n1 = e.cross(xk - xi);
+  const Eigen::Vector3d n2 = (xl - xi).cross(e);
+  const double n1Squared = n1.squaredNorm(), n2Squared = n2.squaredNorm();
+  const Eigen::Vector3d s1 = n1 / n1Squared, s2 = n2 / n2Squared;
+  const double inverseLength = 1.0 / edgeLength;
+  const double ek = (xk - xi).dot(e) * inverseLength, el = (xl - xi).dot(e) * inverseLength;
+  // (x_k - x_j).e / |e| = (x_k - x_i).e / |e| - |e| (likewise for l)
+  gradient.segment<3>(0) = -((ek - edgeLength) * s1 + (el - edgeLength) * s2);
+  gradient.segment<3>(3) = ek * s1 + el * s2;
+  gradient.segment<3>(6) = -edgeLength * s1;
+  gradient.segment<3>(9) = -edgeLength * s2;
+  return std::atan2(n1.cross(n2).dot(e) * inverseLength, n1.dot(n2));
 }
 
 HingeAngle dihedralAngleDerivatives(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj,

@@ -98,46 +98,65 @@ void addHingeTerm(const std::array<Eigen::Vector3d, 4>& x, const std::array<Eige
   HingeAngle theta, thetaBar;
   if (need & detail::kHessianDeformed) {
     theta = dihedralAngleDerivatives(x[0], x[1], x[2], x[3], true);
-  } else {
-    theta.theta = dihedralAngle(x[0], x[1], x[2], x[3]);
-    if (needDeformedAngle) theta.gradient = dihedralAngleGradient(x[0], x[1], x[2], x[3]);
+  } else if (needDeformedAngle) {
+    theta.gradient = dihedralAngleGradient(x[0], x[1], x[2], x[3]);
   }
   if (need & detail::kHessianReference) {
     thetaBar = dihedralAngleDerivatives(xBar[0], xBar[1], xBar[2], xBar[3], true);
-  } else {
-    thetaBar.theta = dihedralAngle(xBar[0], xBar[1], xBar[2], xBar[3]);
-    if (needReferenceDerivatives) thetaBar.gradient = dihedralAngleGradient(xBar[0], xBar[1], xBar[2], xBar[3]);
+  } else if (needReferenceDerivatives) {
+    thetaBar.gradient = dihedralAngleGradient(xBar[0], xBar[1], xBar[2], xBar[3]);
   }
   // w_bar and its derivatives: a function of five reference squared lengths (no deformed ones).
-  static constexpr std::array<LocalEdge, 0> kNoEdges{};
-  static constexpr std::array<LocalEdge, 5> kHingeEdges{{{0, 1}, {1, 2}, {2, 0}, {0, 3}, {3, 1}}};
-  const unsigned weightNeed = needReferenceDerivatives
-                                  ? (detail::kValue | detail::kGradientReference |
-                                     ((need & detail::kHessianReference) ? detail::kHessianReference : 0u))
-                                  : detail::kValue;
-  LocalTerm<4> w(weightNeed);
-  detail::addSquaredLengthTerm<4, 0, 5>([c](const auto& q) { return detail::hingeWeight(q, c); }, x, xBar, kNoEdges,
-                                        kHingeEdges, weightNeed, 1.0, w);
+  double wBar = 0.0;
+  Eigen::Matrix<double, 12, 1> wGradient;  // d w_bar / d x_bar (read only with reference derivatives)
+  Eigen::Matrix<double, 12, 12> wHessian;  // read only with kHessianReference
+  if (need & detail::kHessianReference) {  // second order: forward differentiation in the squared lengths
+    static constexpr std::array<LocalEdge, 0> kNoEdges{};
+    static constexpr std::array<LocalEdge, 5> kHingeEdges{{{0, 1}, {1, 2}, {2, 0}, {0, 3}, {3, 1}}};
+    const unsigned weightNeed = detail::kValue | detail::kGradientReference | detail::kHessianReference;
+    LocalTerm<4> w(weightNeed);
+    detail::addSquaredLengthTerm<4, 0, 5>([c](const auto& q) { return detail::hingeWeight(q, c); }, x, xBar, kNoEdges,
+                                          kHingeEdges, weightNeed, 1.0, w);
+    wBar = w.value;
+    wGradient = w.gradientReference;
+    wHessian = w.hessianReference;
+  } else {
+    // Closed form (measured: the jets were an eighth of a gradient pass): w_bar = c q0 / (A1 + A2) with
+    // triangles (i, j, k) and (i, j, l), dA/dx_a = n_hat x (x_c - x_b) / 2 for (a, b, c) cyclic.
+    const Eigen::Vector3d e = xBar[1] - xBar[0];
+    const Eigen::Vector3d m1 = e.cross(xBar[2] - xBar[0]), m2 = e.cross(xBar[3] - xBar[0]);
+    const double twiceA1 = m1.norm(), twiceA2 = m2.norm(), areaSum = 0.5 * (twiceA1 + twiceA2);
+    wBar = c * e.squaredNorm() / areaSum;
+    if (needReferenceDerivatives) {
+      const Eigen::Vector3d h1 = m1 / (2.0 * twiceA1), h2 = m2 / (2.0 * twiceA2);  // n_hat / 2
+      const double lengthFactor = 2.0 * c / areaSum, areaFactor = -wBar / areaSum;
+      wGradient.segment<3>(0) = -lengthFactor * e + areaFactor * (h1.cross(xBar[2] - xBar[1]) + h2.cross(xBar[3] - xBar[1]));
+      wGradient.segment<3>(3) = lengthFactor * e + areaFactor * (h1.cross(xBar[0] - xBar[2]) + h2.cross(xBar[0] - xBar[3]));
+      wGradient.segment<3>(6) = areaFactor * h1.cross(e);
+      wGradient.segment<3>(9) = areaFactor * h2.cross(e);
+    }
+  }
   // The angle difference is taken modulo 2 pi into [-pi, pi]: a hinge folding through +-pi changes by a
-  // little, not by 2 pi (the derivatives are unaffected; the shift is locally constant).
-  const double d = std::remainder(theta.theta - thetaBar.theta, 2.0 * M_PI);
-  const double wBar = w.value;
+  // little, not by 2 pi (the derivatives are unaffected; the shift is locally constant). One atan2 of the
+  // rotation between the two hinges gives it directly (measured: atan2 was a third of a value pass).
+  const double d = dihedralAngleDifference(dihedralAngleVector(x[0], x[1], x[2], x[3]),
+                                           dihedralAngleVector(xBar[0], xBar[1], xBar[2], xBar[3]));
   out.value += weight * d * d * wBar;
   if (need & detail::kGradientDeformed) out.gradientDeformed += weight * 2.0 * d * wBar * theta.gradient;
   if (need & detail::kGradientReference) {
-    out.gradientReference += weight * (-2.0 * d * wBar * thetaBar.gradient + d * d * w.gradientReference);
+    out.gradientReference += weight * (-2.0 * d * wBar * thetaBar.gradient + d * d * wGradient);
   }
   if (need & detail::kHessianDeformed) {
     out.hessianDeformed += weight * 2.0 * wBar * (theta.gradient * theta.gradient.transpose() + d * theta.hessian);
   }
   if (need & detail::kHessianMixed) {
-    out.hessianMixed += weight * 2.0 * (d * w.gradientReference - wBar * thetaBar.gradient) * theta.gradient.transpose();
+    out.hessianMixed += weight * 2.0 * (d * wGradient - wBar * thetaBar.gradient) * theta.gradient.transpose();
   }
   if (need & detail::kHessianReference) {
-    const Eigen::Matrix<double, 12, 12> cross = thetaBar.gradient * w.gradientReference.transpose();
+    const Eigen::Matrix<double, 12, 12> cross = thetaBar.gradient * wGradient.transpose();
     out.hessianReference += weight * (2.0 * wBar * thetaBar.gradient * thetaBar.gradient.transpose() -
                                       2.0 * d * wBar * thetaBar.hessian - 2.0 * d * (cross + cross.transpose()) +
-                                      d * d * w.hessianReference);
+                                      d * d * wHessian);
   }
 }
 
@@ -351,7 +370,18 @@ ShellEvaluation DiscreteShells::assemble(const Eigen::VectorXd& reference, const
       const auto x = gather<3>(deformed, v);
       const auto xBar = gather<3>(reference, v);
       LocalTerm<3> term(need);
-      if (hyperelastic) {  // Heeren et al. 2012 eq. 8
+      if (hyperelastic && !(need & (detail::kHessianMixed | detail::kHessianReference))) {
+        // Heeren et al. 2012 eq. 8: value and gradients in closed form; a deformed Hessian by jets in the
+        // three deformed squared lengths only (with a reference gradient the jets would carry all six).
+        detail::addHyperelasticFace(x, xBar, p.mu, p.lambda, need, term);
+        if (need & detail::kHessianDeformed) {
+          LocalTerm<3> hessianOnly(detail::kHessianDeformed);
+          detail::addSquaredLengthTerm<3, 3, 3>([&p](const auto& q) { return detail::hyperelasticMembrane(q, p.mu, p.lambda); },
+                                                x, xBar, kTriangleEdges, kTriangleEdges, detail::kHessianDeformed, 1.0,
+                                                hessianOnly);
+          term.hessianDeformed += hessianOnly.hessianDeformed;
+        }
+      } else if (hyperelastic) {  // Heeren et al. 2012 eq. 8
         detail::addSquaredLengthTerm<3, 3, 3>([&p](const auto& q) { return detail::hyperelasticMembrane(q, p.mu, p.lambda); },
                                               x, xBar, kTriangleEdges, kTriangleEdges, need, 1.0, term);
       } else {  // Grinspun et al. 2003 area term

@@ -23,13 +23,8 @@
 namespace deformation_enrichment::shape_space {
 namespace {
 
-using detail::LocalEdge;
-using detail::LocalTerm;
 
 constexpr double kDegenerateAreaRatio = 1e-8;  // as DiscreteShells::checkTriangles
-constexpr std::array<LocalEdge, 3> kTriangleEdges{{{1, 2}, {2, 0}, {0, 1}}};  // edge m opposite corner m
-constexpr std::array<LocalEdge, 0> kNoEdges{};
-constexpr std::array<LocalEdge, 1> kEdge{{{0, 1}}};
 
 template <int NV, class Index>
 std::array<Eigen::Vector3d, NV> gatherCorners(const Eigen::VectorXd& shape, const Index& vertices) {
@@ -127,53 +122,52 @@ public:
       throw InvalidInputError("DiscreteShells: deformed shape has " + std::to_string(y.size()) + " entries, expected " +
                               std::to_string(n));
     if (!y.allFinite()) throw InvalidInputError("DiscreteShells: deformed shape is not finite");
-    const unsigned need = detail::kValue | (gradient ? unsigned(detail::kGradientDeformed) : 0u);
     if (gradient) gradient->setZero(n);
     double value = constant_;
-    const auto scatter = [&](const auto& term, const auto& vertices, int count) {
-      value += term.value;
-      if (gradient)
-        for (int a = 0; a < count; ++a) gradient->segment<3>(3 * vertices[a]) += term.gradientDeformed.template segment<3>(3 * a);
-    };
+    // Closed forms in the deformed edge vectors (no jets: this pass runs once per solver evaluation).
+    // A^2 = |n|^2 / 4 with n = (x1 - x0) x (x2 - x0), and d(A^2)/dx_a = n x (x_c - x_b) / 2 for (a, b, c)
+    // cyclic, so every face term is a function of q_m = |e_m|^2 and A^2 alone.
     for (Eigen::Index t = 0; t < shells_.numTriangles(); ++t) {
       const Eigen::Vector3i v = shells_.triangles().col(t);
       const auto x = gatherCorners<3>(y, v);
-      if (degenerate(x))
+      const std::array<Eigen::Vector3d, 3> e{x[1] - x[2], x[2] - x[0], x[0] - x[1]};  // edge m opposite corner m
+      const Eigen::Vector3d normal = e[2].cross(-e[1]);                                 // (x1 - x0) x (x2 - x0)
+      const double doubleArea = normal.norm();
+      const double q[3] = {e[0].squaredNorm(), e[1].squaredNorm(), e[2].squaredNorm()};
+      if (!(doubleArea > 2.0 * kDegenerateAreaRatio * (q[0] + q[1] + q[2])))
         throw InvalidInputError("DiscreteShells: triangle " + std::to_string(t) + " of the deformed shape is degenerate");
       const Face& f = faces_[size_t(t)];
-      LocalTerm<3> term(need | detail::kGradientDeformed);  // zeroed either way: read only with a gradient
-      if (hyperelastic_) {
-        detail::addSquaredLengthTerm<3, 3, 0>(
-            [&f](const auto& q) {
-              using std::log;
-              const auto area = detail::triangleArea(q[0], q[1], q[2]);
-              return f.linear[0] * q[0] + f.linear[1] * q[1] + f.linear[2] * q[2] + f.quadratic * area * area -
-                     f.logarithmic * log(area / f.scale) + f.constant;
-            },
-            x, x, kTriangleEdges, kNoEdges, need, 1.0, term);
-      } else {
-        detail::addSquaredLengthTerm<3, 3, 0>(
-            [&f](const auto& q) {
-              const auto area = detail::triangleArea(q[0], q[1], q[2]);
-              return f.quadratic * (area - f.linear[0]) * (area - f.linear[0]) + f.constant;
-            },
-            x, x, kTriangleEdges, kNoEdges, need, 1.0, term);
+      const double area = 0.5 * doubleArea, areaSquared = area * area;
+      double dArea2 = 0.0;  // d value / d(A^2)
+      if (hyperelastic_) {  // sum_m C_m q_m + D A^2 - S log(A / scale) + const (header)
+        value += f.linear[0] * q[0] + f.linear[1] * q[1] + f.linear[2] * q[2] + f.quadratic * areaSquared -
+                 f.logarithmic * std::log(area / f.scale) + f.constant;
+        dArea2 = f.quadratic - 0.5 * f.logarithmic / areaSquared;
+      } else {  // k_A a (A - A_star)^2 + const
+        const double excess = area - f.linear[0];
+        value += f.quadratic * excess * excess + f.constant;
+        dArea2 = f.quadratic * excess / area;  // d/d(A^2) of (A - A_star)^2 = (A - A_star) / A
       }
-      scatter(term, v, 3);
+      if (!gradient) continue;
+      for (int a = 0; a < 3; ++a) {
+        // e_m = x_b - x_c for the corners b = m + 1, c = m + 2: dq_m/dx_b = 2 e_m = -dq_m/dx_c
+        Eigen::Vector3d g = (0.5 * dArea2) * normal.cross(-e[size_t(a)]);  // n x (x_c - x_b) / 2 per unit d(A^2)
+        if (hyperelastic_) g += 2.0 * (f.linear[size_t((a + 2) % 3)] * e[size_t((a + 2) % 3)] - f.linear[size_t((a + 1) % 3)] * e[size_t((a + 1) % 3)]);
+        gradient->segment<3>(3 * v[a]) += g;
+      }
     }
-    for (size_t e = 0; e < edges_.size(); ++e) {
+    for (size_t e = 0; e < edges_.size(); ++e) {  // k_L a (l - l_star)^2
       const Eigen::Vector2i v = shells_.edges()[e];
       const Edge& coefficients = edges_[e];
-      LocalTerm<2> term(need | detail::kGradientDeformed);
-      detail::addSquaredLengthTerm<2, 1, 0>(
-          [&coefficients](const auto& q) {
-            using std::sqrt;
-            const auto excess = sqrt(q[0]) - coefficients.linear;
-            return coefficients.quadratic * excess * excess;
-          },
-          gatherCorners<2>(y, v), gatherCorners<2>(y, v), kEdge, kNoEdges, need, 1.0, term);
-      scatter(term, v, 2);
+      const Eigen::Vector3d edge = y.segment<3>(3 * v[0]) - y.segment<3>(3 * v[1]);
+      const double length = edge.norm(), excess = length - coefficients.linear;
+      value += coefficients.quadratic * excess * excess;
+      if (!gradient) continue;
+      const Eigen::Vector3d g = (2.0 * coefficients.quadratic * excess / length) * edge;
+      gradient->segment<3>(3 * v[0]) += g;
+      gradient->segment<3>(3 * v[1]) -= g;
     }
+    Eigen::Matrix<double, 12, 1> dTheta;
     for (size_t h = 0; h < hinges_.size(); ++h) {
       const Hinge& hinge = hinges_[h];
       if (!(hinge.omega > 0.0)) continue;
@@ -184,9 +178,8 @@ public:
         value += hinge.omega * d * d;
         continue;
       }
-      const double d = std::remainder(dihedralAngle(x[0], x[1], x[2], x[3]) - hinge.theta, 2.0 * M_PI);
+      const double d = std::remainder(dihedralAngleAndGradient(x[0], x[1], x[2], x[3], dTheta) - hinge.theta, 2.0 * M_PI);
       value += hinge.omega * d * d;
-      const Eigen::Matrix<double, 12, 1> dTheta = dihedralAngleGradient(x[0], x[1], x[2], x[3]);
       for (int a = 0; a < 4; ++a) gradient->segment<3>(3 * v[a]) += 2.0 * hinge.omega * d * dTheta.segment<3>(3 * a);
     }
     return value;

@@ -73,6 +73,51 @@ T hyperelasticMembrane(const std::array<T, 6>& q, double mu, double lambda) {
                           mu - 0.25 * lambda);
 }
 
+/// hyperelasticMembrane with its value and gradients in closed form (the passes without Hessians; measured:
+/// the jets were the largest part of a gradient pass). With e_m the edge opposite corner m, n = (x1 - x0) x
+/// (x2 - x0), A^2 = |n|^2 / 4 and P = sum_m q_m (q_bar_m+1 + q_bar_m+2 - q_bar_m) (= 8 A_bar^2 tr G, symmetric
+/// in q and q_bar), the face energy is mu P / (16 A_bar) + lambda A^2 / (4 A_bar) - kappa A_bar log(A^2 / A_bar^2)
+/// - (mu + lambda / 4) A_bar, kappa = mu / 2 + lambda / 4; dq_m/dx_(m+1) = 2 e_m = -dq_m/dx_(m+2) and
+/// d(A^2)/dx_a = n x (x_(a+2) - x_(a+1)) / 2.
+inline void addHyperelasticFace(const std::array<Eigen::Vector3d, 3>& x, const std::array<Eigen::Vector3d, 3>& xBar,
+                                double mu, double lambda, unsigned need, LocalTerm<3>& out) {
+  const std::array<Eigen::Vector3d, 3> e{x[1] - x[2], x[2] - x[0], x[0] - x[1]};
+  const std::array<Eigen::Vector3d, 3> eBar{xBar[1] - xBar[2], xBar[2] - xBar[0], xBar[0] - xBar[1]};
+  const Eigen::Vector3d n = e[2].cross(-e[1]), nBar = eBar[2].cross(-eBar[1]);
+  const std::array<double, 3> q{e[0].squaredNorm(), e[1].squaredNorm(), e[2].squaredNorm()};
+  const std::array<double, 3> qBar{eBar[0].squaredNorm(), eBar[1].squaredNorm(), eBar[2].squaredNorm()};
+  const auto cotangentWeights = [](const std::array<double, 3>& r) {
+    return std::array<double, 3>{r[1] + r[2] - r[0], r[2] + r[0] - r[1], r[0] + r[1] - r[2]};
+  };
+  const std::array<double, 3> c = cotangentWeights(qBar), cDeformed = cotangentWeights(q);
+  const double p = q[0] * c[0] + q[1] * c[1] + q[2] * c[2];
+  const double areaSquared = 0.25 * n.squaredNorm(), areaBar = 0.5 * nBar.norm();
+  const double kappa = 0.5 * mu + 0.25 * lambda;
+  const double logRatio = std::log(areaSquared / (areaBar * areaBar));
+  out.value += mu * p / (16.0 * areaBar) + lambda * areaSquared / (4.0 * areaBar) - kappa * areaBar * logRatio -
+               (mu + 0.25 * lambda) * areaBar;
+  if (need & kGradientDeformed) {
+    const double lengthFactor = mu / (16.0 * areaBar);                              // dW/dq_m = lengthFactor c_m
+    const double areaFactor = lambda / (4.0 * areaBar) - kappa * areaBar / areaSquared;  // dW/d(A^2)
+    for (int a = 0; a < 3; ++a) {
+      const int m1 = (a + 1) % 3, m2 = (a + 2) % 3;
+      out.gradientDeformed.segment<3>(3 * a) +=
+          2.0 * lengthFactor * (c[m2] * e[m2] - c[m1] * e[m1]) + (0.5 * areaFactor) * n.cross(-e[a]);
+    }
+  }
+  if (need & kGradientReference) {
+    const double lengthFactor = mu / (16.0 * areaBar);  // dW/dq_bar_m = lengthFactor cDeformed_m
+    const double dArea = -mu * p / (16.0 * areaBar * areaBar) - lambda * areaSquared / (4.0 * areaBar * areaBar) -
+                         kappa * logRatio + 2.0 * kappa - (mu + 0.25 * lambda);  // dW/dA_bar
+    const Eigen::Vector3d halfNormal = nBar / (2.0 * nBar.norm());                 // dA_bar/dx_a = halfNormal x (...)
+    for (int a = 0; a < 3; ++a) {
+      const int m1 = (a + 1) % 3, m2 = (a + 2) % 3;
+      out.gradientReference.segment<3>(3 * a) +=
+          2.0 * lengthFactor * (cDeformed[m2] * eBar[m2] - cDeformed[m1] * eBar[m1]) + dArea * halfNormal.cross(-eBar[a]);
+    }
+  }
+}
+
 /// Grinspun et al. 2003 edge term: k_L (1 - |e|/|e_bar|)^2 |e_bar|, q = (deformed, reference).
 template <class T>
 T discreteShellsEdge(const std::array<T, 2>& q, double kL) {

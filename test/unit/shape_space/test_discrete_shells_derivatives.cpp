@@ -132,6 +132,40 @@ TEST(DihedralAngle, GradientAndHessianMatchFiniteDifferences) {
   expectClose(full.hessian, numericJacobian(gradient, x, 1e-6), 1e-6, "d2 theta / dx2");
 }
 
+TEST(DihedralAngle, SharedAngleAndGradientMatchSeparateCallsAndFiniteDifferences) {
+  // A bent hinge and one folded past pi / 2 (the obtuse side of atan2).
+  for (const double lift : {0.35, -2.5}) {
+    VectorXd x(12);
+    x << 0.1, -0.05, 0.02, 1.0, 0.1, -0.03, 0.4, 0.9, lift, 0.6, -0.8, 0.2;
+    auto angle = [](const VectorXd& p) {
+      return dihedralAngle(p.segment<3>(0), p.segment<3>(3), p.segment<3>(6), p.segment<3>(9));
+    };
+    Eigen::Matrix<double, 12, 1> gradient;
+    const double theta = dihedralAngleAndGradient(x.segment<3>(0), x.segment<3>(3), x.segment<3>(6), x.segment<3>(9), gradient);
+    EXPECT_NEAR(theta, angle(x), 1e-15);
+    expectClose(VectorXd(gradient), VectorXd(dihedralAngleGradient(x.segment<3>(0), x.segment<3>(3), x.segment<3>(6), x.segment<3>(9))),
+                1e-13, "shared vs separate gradient");
+    expectClose(VectorXd(gradient), numericGradient(angle, x, 1e-6), 1e-8, "d theta / dx (shared)");
+  }
+}
+
+TEST(DihedralAngle, DifferenceFromAngleVectorsIsTheWrappedDifference) {
+  // Hinges folded by angles phi (wing k rotated about the edge); pairs across +-pi must wrap to a small step.
+  const Eigen::Vector3d i(0, 0, 0), j(1, 0, 0), l(0.4, -1, 0);
+  const auto folded = [&](double phi) { return Eigen::Vector3d(0.6, std::cos(phi), std::sin(phi)); };
+  for (const double a : {0.3, 2.9, 3.1, -3.1, -1.0}) {
+    for (const double b : {0.0, 3.12, -3.12, 1.5, -2.0}) {
+      const Eigen::Vector3d ka = folded(a), kb = folded(b);
+      const double expected = std::remainder(dihedralAngle(i, j, ka, l) - dihedralAngle(i, j, kb, l), 2.0 * M_PI);
+      const double difference = dihedralAngleDifference(dihedralAngleVector(i, j, ka, l), dihedralAngleVector(i, j, kb, l));
+      EXPECT_NEAR(difference, expected, 1e-13) << "a " << a << ", b " << b;
+      EXPECT_LE(std::abs(difference), M_PI);
+    }
+    EXPECT_NEAR(std::atan2(dihedralAngleVector(i, j, folded(a), l)[0], dihedralAngleVector(i, j, folded(a), l)[1]),
+                dihedralAngle(i, j, folded(a), l), 1e-14);
+  }
+}
+
 TEST(DihedralAngle, FlatHingeIsZeroAndFoldingSignIsSymmetric) {
   const Eigen::Vector3d i(0, 0, 0), j(1, 0, 0), k(0.5, 1, 0), l(0.5, -1, 0);
   EXPECT_NEAR(dihedralAngle(i, j, k, l), 0.0, 1e-15);
