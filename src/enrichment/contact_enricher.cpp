@@ -107,6 +107,17 @@ void ContactEnricher::checkState(const Eigen::Matrix3Xd& current) const {
   if (!std::isfinite((current.array() * 0.0).sum())) throw InvalidInputError("contact enricher: non-finite current surface positions");
 }
 
+const descriptors::Window& ContactEnricher::surfaceWindow(const Eigen::Vector3d& p) const {
+  // The window's samples, offsets and weights depend on rest positions only, and a contact stays on the
+  // same rest point while the tool holds the tissue: reuse the last few windows on an exact match.
+  for (const auto& w : recentWindows_)
+    if (w && w->centre == p) return *w;
+  auto& slot = recentWindows_[nextWindow_];
+  nextWindow_ = (nextWindow_ + 1) % recentWindows_.size();
+  slot = descriptors::gatherWindow(*surfaceSampling_, p, options_.descriptors.window);
+  return *slot;
+}
+
 Eigen::Vector3d ContactEnricher::currentNormal(const Eigen::Matrix3Xd& current, int vertex) const {
   Eigen::Vector3d n = Eigen::Vector3d::Zero();
   for (int f : vertexTriangles_[static_cast<std::size_t>(vertex)]) {
@@ -139,7 +150,7 @@ ContactDescription ContactEnricher::describeValidState(const Eigen::Matrix3Xd& c
     const descriptors::Window window = descriptors::gatherWindow(siteEvaluator_->sampling(), rest_.vertices.col(d.vertex), opt.window);
     site = descriptors::densityMoments(window, 0, opt.siteOrder);
   }
-  const descriptors::Window window = descriptors::gatherWindow(*surfaceSampling_, d.p, opt.window);
+  const descriptors::Window& window = surfaceWindow(d.p);
   if (window.empty()) throw InvalidInputError("contact enricher: no surface vertex within the window of the contact");
   const Eigen::Vector3d restNormal = restNormals_.col(d.vertex);
   const Eigen::Vector3d deformedNormal = currentNormal(current, d.vertex);

@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <nanoflann.hpp>
 #include <string>
@@ -47,9 +48,33 @@ cv::Mat blendExampleStamps(const std::vector<examples::Example>& examples, const
 // nanoflann over the rest vertices (column-major 3 x n, the adaptor keeps a reference to rest_).
 struct StampMapper::KdTree {
   using Tree = nanoflann::KDTreeEigenMatrixAdaptor<Eigen::Matrix3Xd, 3, nanoflann::metric_L2_Simple, false>;
+  using Matches = std::vector<std::pair<Eigen::Index, double>>;
   explicit KdTree(const Eigen::Matrix3Xd& points) : tree(3, std::cref(points), 16) {}
+
+  /// Rest vertices within the ball. A contact stays on the same rest point for many frames (the tool
+  /// holds the tissue it touches), so the last few balls are kept and reused on an exact match.
+  const Matches& ball(const Eigen::Vector3d& centre, double squaredRadius) {
+    for (const Ball& b : recent)
+      if (b.valid && b.centre == centre && b.squaredRadius == squaredRadius) return b.matches;
+    Ball& b = recent[next];
+    next = (next + 1) % recent.size();
+    b.matches.clear();
+    tree.index->radiusSearch(centre.data(), squaredRadius, b.matches, nanoflann::SearchParams(32, 0.0f, false));
+    b.centre = centre;
+    b.squaredRadius = squaredRadius;
+    b.valid = true;
+    return b.matches;
+  }
+
+  struct Ball {
+    bool valid = false;
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    double squaredRadius = 0.0;
+    Matches matches;
+  };
   Tree tree;
-  std::vector<std::pair<Eigen::Index, double>> matches;
+  std::array<Ball, 4> recent;  // a few tools at once
+  std::size_t next = 0;
 };
 
 StampMapper::StampMapper(Eigen::Matrix3Xd restVertices, double rimBand, Eigen::Matrix3Xd restNormals)
@@ -91,10 +116,7 @@ void StampMapper::map(const std::vector<ContactStamp>& contacts, SurfaceEnrichme
   touched_.clear();
   for (const ContactStamp& contact : contacts) {
     const Eigen::Matrix3d RB = contact.rotation * contact.frame;
-    index_->matches.clear();
-    index_->tree.index->radiusSearch(contact.contact.data(), contact.radius * contact.radius, index_->matches,
-                                     nanoflann::SearchParams(32, 0.0f, false));
-    for (const auto& [vertex, squaredDistance] : index_->matches) {
+    for (const auto& [vertex, squaredDistance] : index_->ball(contact.contact, contact.radius * contact.radius)) {
       const double a = rimWeight(std::sqrt(squaredDistance) / contact.radius);
       if (a == 0.0) continue;
       if (normals_.cols() != 0 && normals_.col(vertex).dot(contact.frame.col(2)) < 0.0) continue;  // far side

@@ -7,6 +7,7 @@
 //   B (normal, rho_1, then the deformation direction), then ExampleBlender (eq. 15 -> RBF -> eq. 16) and
 //   StampMapper (eq. 1, multi-contact rim rule).
 #include <Eigen/Core>
+#include <array>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -99,6 +100,7 @@ public:
 
   /// Descriptors at one contact for the current surface positions (3 x size()). Throws InvalidInputError
   /// for wrong sizes, NaN, or a contact with no surface vertex within the window cut-off.
+  /// Fills caches of rest-state quantities (site descriptors, windows): not for concurrent calls.
   ContactDescription describe(const Eigen::Matrix3Xd& current, const Contact& contact) const;
 
   /// Enrichment of the current state for the contacts. No contact: empty result, nothing evaluated.
@@ -113,6 +115,8 @@ private:
   /// describe() for a state that passed checkState().
   ContactDescription describeValidState(const Eigen::Matrix3Xd& current, const Contact& contact) const;
   Eigen::Vector3d currentNormal(const Eigen::Matrix3Xd& current, int vertex) const;
+  /// The deformation descriptor's window at rest point p (cached, see recentWindows_).
+  const descriptors::Window& surfaceWindow(const Eigen::Vector3d& p) const;
   void checkState(const Eigen::Matrix3Xd& current) const;
 
   ContactEnricherOptions options_;
@@ -122,6 +126,8 @@ private:
   std::unique_ptr<descriptors::DescriptorEvaluator> siteEvaluator_;  // interior sampling (rho, normals)
   std::unique_ptr<descriptors::PointSampling> surfaceSampling_;      // surface vertices, area weights (mu)
   mutable std::vector<std::optional<hermite::MomentList>> siteCache_;  // rho (world axes) per rest vertex
+  mutable std::array<std::optional<descriptors::Window>, 4> recentWindows_;  // last windows (a few tools)
+  mutable std::size_t nextWindow_ = 0;
   std::shared_ptr<ExampleBlender> blender_;
   KernelWidths loadedWidths_;     // of the active set, as fitted at load
   std::vector<cv::Mat> stamps_;   // the active set's stamps (magnitude-aware blending)

@@ -215,3 +215,26 @@ TEST(ContactEnricher, MagnitudeAwareStampScalesWithMu) {
   }
   EXPECT_GT(checked, 10);
 }
+
+TEST(ContactEnricher, RestPointCachesGiveTheSameEnrichmentAsAFreshEnricher) {
+  // Windows and stamp balls are cached per rest point (4 each): after more distinct contacts than that,
+  // and again straight after, the result equals a fresh enricher's bit for bit.
+  const mesh::TriangleMesh rest = slabSurface();
+  enrichment::ContactEnricher reference(rest, options()), reused(rest, options());
+  const Eigen::Vector3d p(0.004, -0.003, 0.02);
+  const Eigen::Matrix3Xd state = dented(rest.vertices, p, 1.0);
+  const auto d = reference.describe(state, restContact(p));
+  for (auto* e : {&reference, &reused}) e->setExamples(oneExampleSet(d, syntheticStamp(32, 0.02), 0.02), fixedWidths());
+  enrichment::EnrichmentResult expected, got;
+  reference.enrich(state, {restContact(p)}, expected);
+  ASSERT_FALSE(expected.enrichment.vertices.empty());
+  for (int round = 0; round < 2; ++round) {
+    for (int k = 0; k < 6; ++k) reused.enrich(state, {restContact(p + Eigen::Vector3d(0.002 * (k - 3), 0.001 * k, 0.0))}, got);
+    for (int repeat = 0; repeat < 2; ++repeat) {
+      reused.enrich(state, {restContact(p)}, got);
+      EXPECT_EQ(got.enrichment.vertices, expected.enrichment.vertices);
+      EXPECT_EQ(got.enrichment.displacements, expected.enrichment.displacements);
+      EXPECT_EQ(got.contacts.at(0).weights, expected.contacts.at(0).weights);
+    }
+  }
+}
