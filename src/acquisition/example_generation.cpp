@@ -219,6 +219,8 @@ struct SlabAcquisition::Impl {
 };
 
 SlabAcquisition::SlabAcquisition(const SlabAcquisitionOptions& options) : options_(options), impl_(std::make_unique<Impl>()) {
+  if (!(options.coarseSkinYoung >= 0.0) || !std::isfinite(options.coarseSkinYoung))
+    throw InvalidInputError("acquisition: the coarse skin's Young's modulus must be finite and >= 0 (0: the fine one's)");
   impl_->coarse = makeBody(options.coarse, options.coarseSkinYoung > 0.0 ? options.coarseSkinYoung : options.skinYoung, options);
   impl_->fine = makeBody(options.fine, options.skinYoung, options);
   impl_->fineSurface = mesh::extractSurface(impl_->fine.scene.mesh);

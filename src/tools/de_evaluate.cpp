@@ -5,6 +5,7 @@
 // run-time variants on the same solves: error vs number of examples (paper 000 Fig. 7) and run time vs
 // error over stamp resolution and Hermite orders (plot them with scripts/plot_evaluation).
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -51,6 +52,8 @@ int main(int argc, char** argv) {
   app.add_flag("--json", asJson, "print JSON (always on; kept for the documented command line)");
   CLI11_PARSE(app, argc, argv);
   try {
+    if (!(sigmaRho >= 0.0) || !(sigmaU >= 0.0) || !std::isfinite(sigmaRho) || !std::isfinite(sigmaU))
+      throw InvalidInputError("--sigma-rho and --sigma-u must be finite and >= 0 (0: fitted)");
     const auto contacts = contactsPath.empty() ? acquisition::heldOutSlabContacts() : acquisition::readPlan(contactsPath);
     if (setPath == "default") {
       setPath = acquisition::defaultExampleSetDirectory(sceneName);

@@ -90,6 +90,8 @@ void applyResolutionMetadata(const std::map<std::string, double>& material, Slab
 class SlabAcquisition {
 public:
   /// Builds both scenes, their FEM models, the fine surface, the embedding and the ContactEnricher.
+  /// Throws InvalidInputError for invalid options (resolutions, materials, a negative or non-finite
+  /// coarseSkinYoung, descriptor options).
   explicit SlabAcquisition(const SlabAcquisitionOptions& options = SlabAcquisitionOptions());
   ~SlabAcquisition();
 

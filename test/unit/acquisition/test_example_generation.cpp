@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <sstream>
 #include <fstream>
 #include <unistd.h>
@@ -156,4 +157,12 @@ TEST(ExampleGeneration, CoarsePathEndsInTheSimulatedCoarseState) {
   e.drag.setZero();
   EXPECT_EQ(acq.coarsePath(e, 3, 5).size(), 4u);  // no drag, no drag steps
   EXPECT_THROW(acq.coarsePath(e, 0, 1), InvalidInputError);
+}
+
+TEST(ExampleGeneration, RejectsABadCoarseSkinModulus) {
+  for (double young : {-1.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    auto o = tiny();
+    o.coarseSkinYoung = young;
+    EXPECT_THROW(acquisition::SlabAcquisition{o}, InvalidInputError) << young;
+  }
 }
