@@ -45,6 +45,10 @@ int main(int argc, char** argv) {
   const double period = pnh.param("tap_period", 3.0);
   const int indentSteps = pnh.param("indent_steps", 6), dragSteps = pnh.param("drag_steps", 6);
   const std::string setPath = pnh.param<std::string>("example_set", "");
+  if (!(rate > 0.0) || !std::isfinite(rate) || !(period > 0.0) || !std::isfinite(period)) {
+    ROS_FATAL("demo slab: ~rate (%g) and ~tap_period (%g) must be positive and finite", rate, period);
+    return 1;
+  }
 
   de::acquisition::SlabAcquisitionOptions options;
   std::vector<Tap> taps;
