@@ -15,6 +15,7 @@
 #include "deformation_enrichment/mesh/mesh_io.hpp"
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
 #include "deformation_enrichment/shape_space/geodesic.hpp"
+#include "shape_space_cli.hpp"
 
 namespace de = deformation_enrichment;
 namespace ss = deformation_enrichment::shape_space;
@@ -23,25 +24,20 @@ namespace fs = std::filesystem;
 int main(int argc, char** argv) {
   CLI::App app{"Shape-space geodesic between two shapes (paper 004)"};
   std::string pathA, pathB, output;
-  int shapes = 8, subspace = 16, insert = 2, ghost = 0, rounds = 1;
+  int shapes = 8, insert = 2, rounds = 1;
   double tau = 1.0;
-  bool full = false, json = false, symmetric = false, useFlow = false;
-  std::string energyName = "classic";
+  bool useFlow = false;
+  de::tools::ShapeSpaceCli common;  // no ghost mesh by default: 3 % longer on the finger
   app.add_option("A", pathA, "start shape (OBJ/PLY)")->required();
   app.add_option("B", pathB, "end shape, same topology")->required();
   app.add_option("--shapes", shapes, "shapes on the geodesic, ends included (>= 3)");
   app.add_option("--output", output, "output directory (created if missing)")->required();
-  auto* sub = app.add_option("--subspace", subspace, "PCA subspace dimension (reduced mode, default)");
-  app.add_flag("--full", full, "full-space Newton instead of the reduced solver")->excludes(sub);
+  common.addTo(app, "reduced mode: ghost mesh vertices for the energy approximation (0 = off, the default: 3 % longer on the finger)",
+               "symmetric averaging (eq. 1) instead of eq. 10 (--flow)");
   app.add_option("--insert", insert, "shapes inserted per segment and refinement level");
-  app.add_option("--ghost", ghost, "reduced mode: ghost mesh vertices for the energy approximation (0 = off, the default: 3 % longer on the finger)");
   app.add_option("--enrichment-rounds", rounds, "reduced mode: subspace enrichment rounds per level");
   app.add_flag("--flow", useFlow, "use the smoothing flow (paper 004) instead of minimising eq. 4 directly");
   app.add_option("--tau", tau, "flow step size in (0, 1] (--flow)");
-  app.add_flag("--symmetric", symmetric, "symmetric averaging (eq. 1) instead of eq. 10 (--flow)");
-  app.add_option("--energy", energyName, "classic (paper 004 §7) or hyperelastic (GOAST)")
-      ->check(CLI::IsMember({"classic", "hyperelastic"}));
-  app.add_flag("--json", json, "print the JSON summary on stdout");
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -49,22 +45,16 @@ int main(int argc, char** argv) {
     const de::mesh::TriangleMesh a = de::mesh::readTriangleMesh(pathA);
     const de::mesh::TriangleMesh b = de::mesh::readTriangleMesh(pathB);
     const ss::ShapeSequence ends = ss::makeSequence({a, b}, 2);
-    const ss::DiscreteShells energy(ends.triangles, ends.numVertices(),
-                                    energyName == "classic" ? ss::DiscreteShellsParameters::classic()
-                                                            : ss::DiscreteShellsParameters::hyperelastic());
+    const ss::DiscreteShells energy(ends.triangles, ends.numVertices(), common.parameters());
     ss::GeodesicOptions options;
     options.shapes = shapes;
     options.insertPerSegment = insert;
     options.flow.tau = tau;
-    options.flow.reduced = !full;
-    options.flow.subspaceDimension = subspace;
-    options.flow.symmetricAverage = symmetric;
-    options.flow.useGhostMesh = ghost > 0;
-    if (ghost > 0) options.flow.ghostMesh.targetVertices = ghost;
+    common.applyTo(options.flow);
     options.enrichmentRounds = rounds;
     options.solver = useFlow ? ss::GeodesicSolver::Flow : ss::GeodesicSolver::PathEnergy;
     std::cerr << "de_geodesic: " << ends.numVertices() << " vertices, " << shapes << " shapes, "
-              << (full ? "full" : "reduced") << " space, " << (useFlow ? "flow" : "path energy") << "\n";
+              << (common.full ? "full" : "reduced") << " space, " << (useFlow ? "flow" : "path energy") << "\n";
     const ss::GeodesicResult g = ss::geodesic(energy, ends.triangles, ends.shapes[0], ends.shapes[1], options);
     fs::create_directories(output);
     const std::string ext = fs::path(pathA).extension().string();
@@ -78,7 +68,7 @@ int main(int argc, char** argv) {
     std::cerr << "  length " << g.length << ", path energy " << g.pathEnergy << ", " << g.iterations
               << (useFlow ? " flow steps, " : " solver iterations, ") << "ghost vertices " << g.ghostVertices << ", "
               << seconds << " s\n";
-    if (json) {
+    if (common.json) {
       nlohmann::json out;
       out["length"] = g.length;
       out["path_energy"] = g.pathEnergy;
@@ -89,7 +79,7 @@ int main(int argc, char** argv) {
       out["solver"] = useFlow ? "flow" : "path_energy";
       out["converged"] = g.converged;
       out["seconds"] = seconds;
-      out["mode"] = full ? "full" : "reduced";
+      out["mode"] = common.full ? "full" : "reduced";
       std::cout << out.dump() << std::endl;
     }
     return 0;

@@ -19,6 +19,7 @@
 #include "deformation_enrichment/mesh/mesh_io.hpp"
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
 #include "deformation_enrichment/shape_space/smoothing_flow.hpp"
+#include "shape_space_cli.hpp"
 
 namespace de = deformation_enrichment;
 namespace ss = deformation_enrichment::shape_space;
@@ -30,9 +31,9 @@ int main(int argc, char** argv) {
   std::string output;
   int iterations = 10;
   double tau = 0.5, restoring = 0.0;
-  bool closed = false, full = false, json = false, symmetric = false, proportional = false;
-  int subspace = 16, ghost = 1250;
-  std::string energyName = "classic";
+  bool closed = false, proportional = false;
+  de::tools::ShapeSpaceCli common;
+  common.ghost = 1250;
   std::vector<int> restoredShapes;
   app.add_option("--input", inputs, "input meshes (OBJ/PLY, same topology), in temporal order")->required();
   app.add_option("--output", output, "output directory (created if missing)")->required();
@@ -41,14 +42,9 @@ int main(int argc, char** argv) {
   app.add_option("--restoring", restoring, "restoring force rho in [0, 1)");
   app.add_option("--restore-shapes", restoredShapes, "indices of the shapes that feel rho (default: all)");
   app.add_flag("--closed", closed, "periodic sequence");
-  auto* sub = app.add_option("--subspace", subspace, "PCA subspace dimension (reduced mode, default)");
-  app.add_flag("--full", full, "full-space Newton instead of the reduced solver")->excludes(sub);
-  app.add_option("--ghost", ghost, "reduced mode: ghost mesh vertices for the energy approximation (0 = off)");
-  app.add_flag("--symmetric", symmetric, "symmetric averaging (eq. 1) instead of eq. 10");
+  common.addTo(app, "reduced mode: ghost mesh vertices for the energy approximation (0 = off)",
+               "symmetric averaging (eq. 1) instead of eq. 10");
   app.add_flag("--proportional", proportional, "proportion-preserving weights");
-  app.add_option("--energy", energyName, "classic (paper 004 §7) or hyperelastic (GOAST)")
-      ->check(CLI::IsMember({"classic", "hyperelastic"}));
-  app.add_flag("--json", json, "print the JSON summary on stdout");
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -56,21 +52,15 @@ int main(int argc, char** argv) {
     std::vector<de::mesh::TriangleMesh> meshes;
     for (const std::string& path : inputs) meshes.push_back(de::mesh::readTriangleMesh(path));
     const ss::ShapeSequence sequence = ss::makeSequence(meshes);
-    const ss::DiscreteShells energy(sequence.triangles, sequence.numVertices(),
-                                    energyName == "classic" ? ss::DiscreteShellsParameters::classic()
-                                                            : ss::DiscreteShellsParameters::hyperelastic());
+    const ss::DiscreteShells energy(sequence.triangles, sequence.numVertices(), common.parameters());
     ss::FlowOptions options;
     options.tau = tau;
     options.rho = restoring;
     options.restoredShapes = restoredShapes;
     options.closed = closed;
-    options.reduced = !full;
-    options.subspaceDimension = subspace;
-    options.symmetricAverage = symmetric;
+    common.applyTo(options);
     options.weights = proportional ? ss::FlowWeights::ProportionPreserving : ss::FlowWeights::Fixed;
-    options.useGhostMesh = ghost > 0;
     options.parallelShapes = true;  // DiscreteShells is thread-safe; the Jacobi update makes shapes independent
-    if (ghost > 0) options.ghostMesh.targetVertices = ghost;
     ss::SmoothingFlow flow(energy, sequence, options);
     nlohmann::json energies = nlohmann::json::array(), ghostEnergies = nlohmann::json::array();
     energies.push_back(flow.pathEnergy());
@@ -94,7 +84,7 @@ int main(int argc, char** argv) {
       de::mesh::writeTriangleMesh((fs::path(output) / fs::path(inputs[i]).filename()).string(), m);
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (json) {
+    if (common.json) {
       nlohmann::json out;
       out["path_energy"] = energies;
       if (flow.ghostVertices() > 0) out["ghost_path_energy"] = ghostEnergies;
@@ -104,7 +94,7 @@ int main(int argc, char** argv) {
       out["seconds"] = seconds;
       out["shapes"] = inputs.size();
       out["vertices"] = sequence.numVertices();
-      out["mode"] = full ? "full" : "reduced";
+      out["mode"] = common.full ? "full" : "reduced";
       std::cout << out.dump() << std::endl;
     }
     return 0;
