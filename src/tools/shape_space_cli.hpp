@@ -16,9 +16,9 @@ struct ShapeSpaceCli {
   std::string energyName = "classic";
 
   void addTo(CLI::App& app, const std::string& ghostHelp, const std::string& symmetricHelp) {
-    auto* sub = app.add_option("--subspace", subspace, "PCA subspace dimension (reduced mode, default)");
+    auto* sub = app.add_option("--subspace", subspace, "PCA subspace dimension (reduced mode, default)")->check(CLI::PositiveNumber);
     app.add_flag("--full", full, "full-space Newton instead of the reduced solver")->excludes(sub);
-    app.add_option("--ghost", ghost, ghostHelp);
+    app.add_option("--ghost", ghost, ghostHelp)->check(CLI::NonNegativeNumber);
     app.add_flag("--symmetric", symmetric, symmetricHelp);
     app.add_option("--energy", energyName, "classic (paper 004 §7) or hyperelastic (GOAST)")
         ->check(CLI::IsMember({"classic", "hyperelastic"}));
