@@ -24,7 +24,7 @@ target_compile_options(deformation_enrichment_core PRIVATE ${DE_WARNINGS})
 target_include_directories(deformation_enrichment_core PUBLIC
   $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>
   $<INSTALL_INTERFACE:include>)
-# PCL stays private: no public core header includes it (slow to compile, see DESIGN.md).
+# PCL stays private: no public core header includes it (slow to compile, see docs/design.md).
 target_include_directories(deformation_enrichment_core SYSTEM PRIVATE ${PCL_INCLUDE_DIRS})
 target_compile_definitions(deformation_enrichment_core PRIVATE ${PCL_DEFINITIONS})
 target_link_libraries(deformation_enrichment_core

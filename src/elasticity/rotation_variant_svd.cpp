@@ -87,7 +87,7 @@ RotationVariantSvd rotationVariantSvd(const Eigen::Matrix3d& F) {
     A.col(2) *= -1.0;
   }
   // U = [u_0, u_1, u_0 x u_1] is a rotation by construction; sigma_2 = u_2 . a_2 then carries the sign
-  // of det F (rotation-variant SVD, paper 001 §2).
+  // of det F (rotation-variant SVD, [Masanti19 §2]).
   out.sigma(0) = std::sqrt(norms(0));
   out.sigma(1) = std::sqrt(norms(1));
   if (out.sigma(0) == 0.0) {

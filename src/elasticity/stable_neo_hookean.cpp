@@ -15,7 +15,7 @@ namespace {
 
 constexpr double kMaxIc = 1e60;  // |F|_F^2 beyond which (lambda' g g^T) could overflow
 
-// Columns of cof F = dJ/dF = [f1 x f2 | f2 x f0 | f0 x f1] (paper 001 eq. 3.2).
+// Columns of cof F = dJ/dF = [f1 x f2 | f2 x f0 | f0 x f1] ([Masanti19 eq. 3.2]).
 Eigen::Matrix3d cofactor(const Eigen::Matrix3d& F) {
   Eigen::Matrix3d g;
   g.col(0) = F.col(1).cross(F.col(2));
@@ -78,7 +78,7 @@ StableNeoHookean::StableNeoHookean(double mu, double lambda, SnhVariant variant)
                             std::to_string(lambda));
   }
   if (variant == SnhVariant::Paper) {
-    // Reparametrisation matching linear elasticity at F = I (Smith et al. 2018 §3.4, paper 001 eq. 3.1).
+    // Reparametrisation matching linear elasticity at F = I ([Smith18 §3.4], [Masanti19 eq. 3.1]).
     muPrime_ = 4.0 / 3.0 * mu;
     lambdaPrime_ = lambda + 5.0 / 6.0 * mu;
     restShift_ = 0.75 * muPrime_;  // lambda'(alpha - 1) with alpha = 1 + mu'/lambda' - mu'/(4 lambda')
@@ -129,7 +129,7 @@ Eigen::Matrix3d StableNeoHookean::pk1(const Eigen::Matrix3d& F) const {
   const Eigen::Matrix3d g = cofactor(F);
   const double J = F.col(0).dot(g.col(0));
   const Coefficients k = coefficients(F.squaredNorm(), J);
-  // P = a F + lambda'(J - alpha) cof F (paper 001 eq. after 3.1). At F = I: a = 3/4 mu' = restShift (Paper)
+  // P = a F + lambda'(J - alpha) cof F ([Masanti19] eq. after 3.1). At F = I: a = 3/4 mu' = restShift (Paper)
   // or mu' (Production) bit for bit, and J - 1 = 0, so P(I) = 0 exactly.
   return k.a * F + k.s * g;
 }
@@ -141,10 +141,10 @@ Matrix9d StableNeoHookean::hessian(const Eigen::Matrix3d& F) const {
   const Coefficients k = coefficients(F.squaredNorm(), J);
   const Eigen::Map<const Vector9d> f(F.data());
   const Eigen::Map<const Vector9d> gv(g.data());
-  // H = T + M + G + H_J (paper 001 §3.3.2): a I + b f f^T + lambda' g g^T + lambda'(J - alpha) d^2J/dF^2.
+  // H = T + M + G + H_J ([Masanti19 §3.3.2]): a I + b f f^T + lambda' g g^T + lambda'(J - alpha) d^2J/dF^2.
   Matrix9d H = k.b * f * f.transpose() + lambdaPrime_ * gv * gv.transpose();
   H.diagonal().array() += k.a;
-  // Volume Hessian: self-similar cross-product matrix of the columns of F (paper 001 §3.3.4).
+  // Volume Hessian: self-similar cross-product matrix of the columns of F ([Masanti19 §3.3.4]).
   const Eigen::Matrix3d h0 = k.s * hat(F.col(0));
   const Eigen::Matrix3d h1 = k.s * hat(F.col(1));
   const Eigen::Matrix3d h2 = k.s * hat(F.col(2));
@@ -177,7 +177,7 @@ SnhEigensystem StableNeoHookean::eigensystem(const Eigen::Matrix3d& F) const {
   const Eigen::Vector3d& sig = svd.sigma;
   const Coefficients k = coefficients(sig.squaredNorm(), sig.prod());
   SnhEigensystem es;
-  // Scaling modes: the 3x3 block on vec(U diag(d) V^T), solved small (Smith et al. 2018 §4.3).
+  // Scaling modes: the 3x3 block on vec(U diag(d) V^T), solved small ([Smith18 §4.3]).
   const SymmetricEigen3 eig = symmetricEigen3(scalingBlock(sig, k));
   Eigen::Matrix<double, 9, 3> W;
   for (int m = 0; m < 3; ++m) W.col(m) = outerVec(svd.U, m, svd.V, m);
@@ -214,7 +214,7 @@ Matrix9d StableNeoHookean::projectedHessian(const Eigen::Matrix3d& F, const Rota
   for (int m = 0; m < 3; ++m)
     for (int c = 0; c < 3; ++c) K.block<3, 3>(3 * m, 3 * c) = svd.V(m, c) * svd.U;
   Matrix9d X;  // K D_+
-  // Scaling block (Smith et al. 2018 §4.3): clamp only if Sylvester's criterion says it is not PD.
+  // Scaling block ([Smith18 §4.3]): clamp only if Sylvester's criterion says it is not PD.
   Eigen::Matrix3d A = scalingBlock(sig, k);
   const double minor2 = A(0, 0) * A(1, 1) - A(0, 1) * A(0, 1);
   if (!(A(0, 0) > 0.0 && minor2 > 0.0 && A.determinant() > 0.0)) {

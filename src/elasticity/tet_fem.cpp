@@ -66,7 +66,7 @@ void TetFem::checkPositions(const Eigen::Matrix3Xd& x, const char* where) const 
 Eigen::Matrix3d TetFem::deformationGradient(const Eigen::Matrix3Xd& x, Eigen::Index t) const {
   Eigen::Matrix3d Ds;
   for (int c = 0; c < 3; ++c) Ds.col(c) = x.col(rest_.tets(c + 1, t)) - x.col(rest_.tets(0, t));
-  return Ds * dmInverse_[static_cast<std::size_t>(t)];  // linear tet: F = Ds Dm^-1 (columns f0|f1|f2, paper 001 eq. 2.1)
+  return Ds * dmInverse_[static_cast<std::size_t>(t)];  // linear tet: F = Ds Dm^-1 (columns f0|f1|f2, [Masanti19 eq. 2.1])
 }
 
 Eigen::Matrix<double, 9, 12> TetFem::shapeDerivative(Eigen::Index t) const {

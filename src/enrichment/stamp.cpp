@@ -27,7 +27,7 @@ void checkStamp(const cv::Mat& stamp, double radius, const char* what) {
 }
 
 Eigen::Matrix2Xd stampCoordinates(const Eigen::Matrix3Xd& points, const Eigen::Vector3d& p, const Eigen::Matrix3d& B) {
-  // Orthogonal projection on the tangent plane of the frame (paper 000 §3): (phi, varphi) = (b_x, b_y)^T (x - p).
+  // Orthogonal projection on the tangent plane of the frame ([Seiler14 §3]): (phi, varphi) = (b_x, b_y)^T (x - p).
   return B.leftCols<2>().transpose() * (points.colwise() - p);
 }
 

@@ -92,7 +92,7 @@ MlsDeformationGradient fitVolume(const Eigen::Matrix3Xd& x, const Eigen::Matrix3
   MlsDeformationGradient result;
   result.xBar = m.xBar;
   result.yBar = m.yBar;
-  result.F = solveShapeMatching(m.Apq, m.Aqq);  // F = A_pq A_qq^-1 (paper 000 §4.3, [MHTG05])
+  result.F = solveShapeMatching(m.Apq, m.Aqq);  // F = A_pq A_qq^-1 ([Seiler14 §4.3], [Mueller05])
   result.normalCompleted = false;
   return result;
 }

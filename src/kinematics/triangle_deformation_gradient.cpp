@@ -68,9 +68,9 @@ TriangleStrain triangleDeformationGradient(const Eigen::Vector3d& X0, const Eige
   Eigen::Matrix2d restEdges, deformedEdges;
   restEdges << s.restFrame.axes.transpose() * (X1 - X0), s.restFrame.axes.transpose() * (X2 - X0);
   deformedEdges << s.deformedFrame.axes.transpose() * u1, s.deformedFrame.axes.transpose() * u2;
-  s.F = deformedEdges * restEdges.inverse();  // seed 003 eq. 2: F = [u1 u2][ū1 ū2]^-1
+  s.F = deformedEdges * restEdges.inverse();  // [Yan19 eq. 2]: F = [u1 u2][ū1 ū2]^-1
 
-  // C = FᵀF = U² (seed 003 eqs. 15-18); U = sum lambda_i v_i v_iᵀ with lambda_i² the eigenvalues of C (eq. 20).
+  // C = FᵀF = U² ([Yan19 eqs. 15-18]); U = sum lambda_i v_i v_iᵀ with lambda_i² the eigenvalues of C (eq. 20).
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(s.F.transpose() * s.F);
   const Eigen::Vector2d lambda2 = eig.eigenvalues().cwiseMax(0.0);  // ascending; clamp round-off
   s.principalStretches << std::sqrt(lambda2[1]), std::sqrt(lambda2[0]);

@@ -1,4 +1,4 @@
-// de_smooth_bag: smooths a recorded mesh-state topic of a bag in shape space (paper 004) and writes a new
+// de_smooth_bag: smooths a recorded mesh-state topic of a bag in shape space ([Brandt16]) and writes a new
 // bag with every other message copied unchanged and the topic replaced by its smoothed states (same stamps).
 //   de_smooth_bag --input in.bag --output out.bag --topic /mesh_state (--topology rest.obj | --topology-topic /rest_mesh)
 //                 [--iterations K] [--tau T] [--restoring R] [--closed] [--subspace d]

@@ -1,5 +1,5 @@
 // shape_space_server: services that smooth recorded deformation sequences in shape space, compute geodesics
-// and Bezier curves between meshes of one topology (paper 004). Meshes travel as PointCloud2 vertex arrays
+// and Bezier curves between meshes of one topology ([Brandt16]). Meshes travel as PointCloud2 vertex arrays
 // over one shared triangle list. Bad input gets success = false and a message naming the problem.
 #include <ros/ros.h>
 

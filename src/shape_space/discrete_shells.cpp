@@ -371,7 +371,7 @@ ShellEvaluation DiscreteShells::assemble(const Eigen::VectorXd& reference, const
       const auto xBar = gather<3>(reference, v);
       LocalTerm<3> term(need);
       if (hyperelastic && !(need & (detail::kHessianMixed | detail::kHessianReference))) {
-        // Heeren et al. 2012 eq. 8: value and gradients in closed form; a deformed Hessian by jets in the
+        // [Heeren12 eq. 8]: value and gradients in closed form; a deformed Hessian by jets in the
         // three deformed squared lengths only (with a reference gradient the jets would carry all six).
         detail::addHyperelasticFace(x, xBar, p.mu, p.lambda, need, term);
         if (need & detail::kHessianDeformed) {
@@ -381,17 +381,17 @@ ShellEvaluation DiscreteShells::assemble(const Eigen::VectorXd& reference, const
                                                 hessianOnly);
           term.hessianDeformed += hessianOnly.hessianDeformed;
         }
-      } else if (hyperelastic) {  // Heeren et al. 2012 eq. 8
+      } else if (hyperelastic) {  // [Heeren12 eq. 8]
         detail::addSquaredLengthTerm<3, 3, 3>([&p](const auto& q) { return detail::hyperelasticMembrane(q, p.mu, p.lambda); },
                                               x, xBar, kTriangleEdges, kTriangleEdges, need, 1.0, term);
-      } else {  // Grinspun et al. 2003 area term
+      } else {  // [Grinspun03] area term
         detail::addSquaredLengthTerm<3, 3, 3>([&p](const auto& q) { return detail::discreteShellsArea(q, p.areaWeight); },
                                               x, xBar, kTriangleEdges, kTriangleEdges, need, 1.0, term);
       }
       scatter<3>(term, v, need, pattern_, acc);
     }
 #pragma omp for schedule(static) nowait
-    for (Eigen::Index e = 0; e < numEdgeTerms; ++e) {  // Grinspun et al. 2003 edge-length term
+    for (Eigen::Index e = 0; e < numEdgeTerms; ++e) {  // [Grinspun03] edge-length term
       const std::array<int, 2> v{edges_[e][0], edges_[e][1]};
       LocalTerm<2> term(need);
       detail::addSquaredLengthTerm<2, 1, 1>([&p](const auto& q) { return detail::discreteShellsEdge(q, p.lengthWeight); },

@@ -1,7 +1,7 @@
 // DiscreteShells::weightedReferences: sum_i w_i W[x_i, y] (the eq. 10 objective) in one pass over the mesh.
 // Every term of the shell energy is, for a fixed deformed element, linear in functions of the reference
 // element alone, so the weighted examples aggregate into per-element coefficients computed once:
-//  - hyperelastic face (Heeren et al. 2012 eq. 8): A_bar (mu/2 tr G + lambda/4 det G - (mu + lambda/2) log(A/A_bar)
+//  - hyperelastic face ([Heeren12 eq. 8]): A_bar (mu/2 tr G + lambda/4 det G - (mu + lambda/2) log(A/A_bar)
 //    - mu - lambda/4) with tr G = sum_m q_m c_m(q_bar) / (8 A_bar^2), det G = A^2 / A_bar^2, so the sum is
 //    sum_m C_m q_m + D A^2 - S log A + const;
 //  - classic edge / area terms: k (1 - l/l_bar)^2 l_bar = k (l - l_bar)^2 / l_bar, so the sum is

@@ -94,7 +94,7 @@ GeodesicResult pathEnergyGeodesic(const DeformationEnergy& energy, const Eigen::
   solveOptions.absoluteFactor = options.absoluteFactor;
   solveOptions.relativeFactor = options.relativeFactor;
   GeodesicResult result;
-  // The ghost mesh of the start shape, shared by all levels (paper 004 §6).
+  // The ghost mesh of the start shape, shared by all levels ([Brandt16 §6]).
   std::unique_ptr<GhostMesh> ghost;
   std::unique_ptr<DeformationEnergy> ghostEnergy;
   if (flow.reduced && flow.useGhostMesh && a.size() / 3 > flow.ghostMesh.targetVertices) {
@@ -114,7 +114,7 @@ GeodesicResult pathEnergyGeodesic(const DeformationEnergy& energy, const Eigen::
       result.evaluations += report.evaluations;
       result.pathEnergyHistory.push_back(pathEnergy(energy, shapes));
     } else {
-      // Subspace: PCA of the level's initial path plus the eq. 9 directions (paper 004 §6: coarse curves get
+      // Subspace: PCA of the level's initial path plus the eq. 9 directions ([Brandt16 §6]: coarse curves get
       // flow directions): at the first level those at the initial path, later the previous level's basis
       // (its tangents were taken at a solved path; new ones would cost a factorisation per shape). Each
       // round adds the tangents at the current path.

@@ -185,7 +185,7 @@ PathSolveReport minimisePathEnergyReduced(const DeformationEnergy& energy, std::
     }
   };
 
-  // Quasi-Newton (paper 004 §6: BFGS with a good initial Hessian): the Hessian model at the start, then
+  // Quasi-Newton ([Brandt16 §6]: BFGS with a good initial Hessian): the Hessian model at the start, then
   // BFGS updates from gradients only. If no step descends, the model is recomputed once before giving up.
   double f = derivatives(q, true);
   if (!std::isfinite(f)) throw NumericalError("reduced path energy: eq. 4 is not finite at the start");

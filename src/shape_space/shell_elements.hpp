@@ -57,7 +57,7 @@ T triangleArea(const T& q0, const T& q1, const T& q2) {
   return 0.25 * sqrt((a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c)));
 }
 
-/// Heeren et al. 2012 eq. 8 per face: a_bar W(tr G, det G), G = g_bar^-1 g, with
+/// [Heeren12 eq. 8] per face: a_bar W(tr G, det G), G = g_bar^-1 g, with
 /// W(a, d) = mu/2 a + lambda/4 d - (mu/2 + lambda/4) log d - mu - lambda/4. q = (deformed 0..2, reference 0..2),
 /// edge m of both triangles opposite the same corner; tr G by the cotangent formula in squared lengths.
 template <class T>
@@ -118,7 +118,7 @@ inline void addHyperelasticFace(const std::array<Eigen::Vector3d, 3>& x, const s
   }
 }
 
-/// Grinspun et al. 2003 edge term: k_L (1 - |e|/|e_bar|)^2 |e_bar|, q = (deformed, reference).
+/// [Grinspun03] edge term: k_L (1 - |e|/|e_bar|)^2 |e_bar|, q = (deformed, reference).
 template <class T>
 T discreteShellsEdge(const std::array<T, 2>& q, double kL) {
   using std::sqrt;
@@ -127,7 +127,7 @@ T discreteShellsEdge(const std::array<T, 2>& q, double kL) {
   return kL * strain * strain * referenceLength;
 }
 
-/// Grinspun et al. 2003 area term: k_A (1 - A/A_bar)^2 A_bar, q = (deformed 0..2, reference 0..2).
+/// [Grinspun03] area term: k_A (1 - A/A_bar)^2 A_bar, q = (deformed 0..2, reference 0..2).
 template <class T>
 T discreteShellsArea(const std::array<T, 6>& q, double kA) {
   const T areaReference = triangleArea(q[3], q[4], q[5]);
@@ -136,7 +136,7 @@ T discreteShellsArea(const std::array<T, 6>& q, double kA) {
 }
 
 /// Bending weight c |e_bar|^2 / (A_bar_1 + A_bar_2) of a hinge (i, j, k, l), q = |ij|^2, |jk|^2, |ki|^2, |il|^2, |lj|^2.
-/// c = 3 is Grinspun et al.'s |e_bar| / h_bar_e with h_bar_e a third of the average height of the two triangles; c = 1 is GOAST's.
+/// c = 3 is [Grinspun03]'s |e_bar| / h_bar_e with h_bar_e a third of the average height of the two triangles; c = 1 is GOAST's.
 template <class T>
 T hingeWeight(const std::array<T, 5>& q, double c) {
   return c * q[0] / (triangleArea(q[0], q[1], q[2]) + triangleArea(q[0], q[3], q[4]));

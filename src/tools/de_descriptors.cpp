@@ -1,5 +1,5 @@
 // de_descriptors: site descriptor rho, stamping frame B and (with --deformed) the deformation descriptor mu
-// of paper 000 §4 at given points of an object, for choosing acquisition points and for scripts.
+// of [Seiler14 §4] at given points of an object, for choosing acquisition points and for scripts.
 //
 //   de_descriptors --mesh M.node --points P.csv --order N --scale h --quadrature volume|average
 //                  [--cutoff c] [--deformed D.node] --json
@@ -97,7 +97,7 @@ Json matrixJson(const Eigen::Matrix3d& m) {  // column-major, as the issue speci
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Site / deformation descriptors (paper 000 §4) at given points, in world axes"};
+  CLI::App app{"Site / deformation descriptors ([Seiler14 §4]) at given points, in world axes"};
   tools::DescriptorCli cli;
   std::string pointsPath, deformedPath;
   int deformationOrder = 2;

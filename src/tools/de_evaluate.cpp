@@ -2,7 +2,7 @@
 // simulation (ground truth) of each held-out contact once, enriches the coarse state with the example set
 // and prints one JSON object: RMS errors against the fine solution over the fine surface vertices within
 // the stamp radius, per-contact details, maxima and compute time per frame. With --curves it also scores
-// run-time variants on the same solves: error vs number of examples (paper 000 Fig. 7) and run time vs
+// run-time variants on the same solves: error vs number of examples ([Seiler14 Fig. 7]) and run time vs
 // error over stamp resolution and Hermite orders (plot them with scripts/plot_evaluation).
 #include <CLI/CLI.hpp>
 #include <cmath>

@@ -1,5 +1,5 @@
 // de_geodesic: discrete geodesic between two shapes by temporal coarse-to-fine refinement, minimising the
-// path energy (eq. 4) at every level, or with the smoothing flow (--flow; paper 004 §5-6).
+// path energy (eq. 4) at every level, or with the smoothing flow (--flow; [Brandt16 §5-6]).
 //   de_geodesic A.obj B.obj --shapes n --output DIR [--full | --subspace d] [--ghost N] [--flow] [--json]
 // Writes DIR/geodesic_000.<ext> ... and prints {"length": L, "path_energy": E, "seconds": s, ...}.
 #include <chrono>
@@ -22,7 +22,7 @@ namespace ss = deformation_enrichment::shape_space;
 namespace fs = std::filesystem;
 
 int main(int argc, char** argv) {
-  CLI::App app{"Shape-space geodesic between two shapes (paper 004)"};
+  CLI::App app{"Shape-space geodesic between two shapes ([Brandt16])"};
   std::string pathA, pathB, output;
   int shapes = 8, insert = 2, rounds = 1;
   double tau = 1.0;
@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
                "symmetric averaging (eq. 1) instead of eq. 10 (--flow)");
   app.add_option("--insert", insert, "shapes inserted per segment and refinement level");
   app.add_option("--enrichment-rounds", rounds, "reduced mode: subspace enrichment rounds per level");
-  app.add_flag("--flow", useFlow, "use the smoothing flow (paper 004) instead of minimising eq. 4 directly");
+  app.add_flag("--flow", useFlow, "use the smoothing flow ([Brandt16]) instead of minimising eq. 4 directly");
   app.add_option("--tau", tau, "flow step size in (0, 1] (--flow)");
   CLI11_PARSE(app, argc, argv);
 

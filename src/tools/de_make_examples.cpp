@@ -1,4 +1,4 @@
-// de_make_examples: acquires an example set on the slab scene (paper 000 §3). For every plan line it runs
+// de_make_examples: acquires an example set on the slab scene ([Seiler14 §3]). For every plan line it runs
 // the coarse and the fine simulation, takes d = fine - coarse on the fine surface and stores descriptors
 // and stamp. The set is rewritten after every example, so an interrupted run resumes where it stopped
 // (examples already in SET with the same contact and pattern are kept, not recomputed).

@@ -1,4 +1,4 @@
-// de_segment: site segmentation of paper 000 §6.1. Site descriptors (orders 0..N, in each vertex's
+// de_segment: site segmentation of [Seiler14 §6.1]. Site descriptors (orders 0..N, in each vertex's
 // stamping frame) at every surface vertex, clustered by k-means under d_rho; prints the labels as JSON.
 //
 //   de_segment --mesh M.node|M.obj|M.ply --scale h --clusters k [--order N] [--quadrature volume|average]
@@ -18,7 +18,7 @@ using namespace deformation_enrichment;
 using Json = nlohmann::ordered_json;
 
 int main(int argc, char** argv) {
-  CLI::App app{"Site segmentation (paper 000 §6.1): k-means on d_rho over all surface vertices"};
+  CLI::App app{"Site segmentation ([Seiler14 §6.1]): k-means on d_rho over all surface vertices"};
   tools::DescriptorCli cli;
   std::string outputPath;
   int clusters = 6, restarts = 4;

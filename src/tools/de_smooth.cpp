@@ -1,4 +1,4 @@
-// de_smooth: smooths a deformation sequence with the shape-space flow of paper 004 (eq. 2 with step
+// de_smooth: smooths a deformation sequence with the shape-space flow of [Brandt16] (eq. 2 with step
 // control, optional restoring force), reduced (PCA subspace + L-BFGS) or full space (Newton).
 //   de_smooth --input F0.obj F1.obj ... --output DIR --iterations K --tau T --restoring R [--closed]
 //             [--subspace d | --full] [--ghost N] [--json]
@@ -26,7 +26,7 @@ namespace ss = deformation_enrichment::shape_space;
 namespace fs = std::filesystem;
 
 int main(int argc, char** argv) {
-  CLI::App app{"Shape-space smoothing flow for deformation sequences (paper 004)"};
+  CLI::App app{"Shape-space smoothing flow for deformation sequences ([Brandt16])"};
   std::vector<std::string> inputs;
   std::string output;
   int iterations = 10;

@@ -20,7 +20,7 @@ struct ShapeSpaceCli {
     app.add_flag("--full", full, "full-space Newton instead of the reduced solver")->excludes(sub);
     app.add_option("--ghost", ghost, ghostHelp)->check(CLI::NonNegativeNumber);
     app.add_flag("--symmetric", symmetric, symmetricHelp);
-    app.add_option("--energy", energyName, "classic (paper 004 §7) or hyperelastic (GOAST)")
+    app.add_option("--energy", energyName, "classic ([Brandt16 §7]) or hyperelastic (GOAST)")
         ->check(CLI::IsMember({"classic", "hyperelastic"}));
     app.add_flag("--json", json, "print the JSON summary on stdout");
   }

@@ -1,4 +1,4 @@
-// Per-frame enrichment as the node runs it (issue 5 target: <= 1 ms compute for a 50k-vertex surface with 10
+// Per-frame enrichment as the node runs it (target: <= 1 ms compute for a 50k-vertex surface with 10
 // examples): ContactEnricher::enrich for one contact, i.e. the deformation descriptor (MLS F, polar, moments
 // up to order 2 of the current state in the window), the cached site descriptor, eq. 15 weights, RBF, eq. 16
 // blend of 32x32 stamps, mapping within R = 3 cm, plus s + e applied to a copy of the state

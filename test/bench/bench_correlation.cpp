@@ -1,4 +1,4 @@
-// Example correlation (paper 000 §5): d_rho (eq. 9), d_u (eq. 14) and the eq. (15) weights of one contact
+// Example correlation ([Seiler14 §5]): d_rho (eq. 9), d_u (eq. 14) and the eq. (15) weights of one contact
 // against 10 / 1000 / 100k examples (rho: orders 0..3, mu: orders 1..2 x 3 components, as the paper uses).
 // Candidate: enrichment::correlate on the contiguous, metric-scaled example table. Baselines, in the same
 // process: a straightforward scalar loop over plain arrays (multiplicity-weighted sums per example), and

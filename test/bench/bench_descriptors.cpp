@@ -1,4 +1,4 @@
-// Descriptor evaluation at a contact (paper 000 §4) on point sets of 10k / 100k / 1M samples of the unit
+// Descriptor evaluation at a contact ([Seiler14 §4]) on point sets of 10k / 100k / 1M samples of the unit
 // cube, orders N = 1..4: window gathered by the KD-tree (built once per mesh) vs a brute-force scan over
 // all samples, side by side; plus the full contact (rho N=3, frame, MLS + mu N=2) with the KD-tree.
 // Fixed window h = 0.05 m (cut-off 0.2 m) on the top face: finer meshes put more samples in the window.

@@ -1,4 +1,4 @@
-// Kernel-width fitting by leave-one-out (paper 000 §5, "finished in a few seconds"; issue 5: seconds for
+// Kernel-width fitting by leave-one-out ([Seiler14 §5], "finished in a few seconds"; target: seconds for
 // 100 examples). Groups:
 //   LooError/GramDowndate vs LooError/Explicit: one width pair's leave-one-out error over N examples with
 //     64x64 stamps, as fitKernelWidths computes it (stamp Gram matrix, (K_S)^2 from one K^2) vs the

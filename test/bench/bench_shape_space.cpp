@@ -1,4 +1,4 @@
-// Shape-space benchmarks (paper 004 Table 1 / §7), each next to its baselines in one process:
+// Shape-space benchmarks ([Brandt16 Table 1 / §7]), each next to its baselines in one process:
 //  - geodesic finger0 -> finger1 (2046 vertices, ../shared/data/finger) with DE_BENCH_GEODESIC_SHAPES
 //    shapes (default 8), minimising eq. 4: reduced with the ghost mesh (1250 vertices) vs reduced exact vs
 //    full space (Newton); counters: length and path energy (on the full mesh), iterations, evaluations.
@@ -79,7 +79,7 @@ void geodesicCase(benchmark::State& state, Mode mode) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   // CPU time of all threads: on a shared machine less load-dependent than real time.
   state.counters["process_cpu_s"] = double(std::clock() - cpuStart) / CLOCKS_PER_SEC / double(state.iterations());
-  // Accuracy against the full-space path of the same run (paper 004 §7: lengths within 0.1 %, shapes by
+  // Accuracy against the full-space path of the same run ([Brandt16 §7]: lengths within 0.1 %, shapes by
   // summed L2 distances relative to the summed shape norms).
   static std::vector<Eigen::VectorXd> fullShapes;
   static double fullLength = 0.0, fullSeconds = 0.0;

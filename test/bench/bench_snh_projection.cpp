@@ -1,4 +1,4 @@
-// PSD projection of the Stable Neo-Hookean Hessian: analytic eigensystem (Smith et al. 2018 §4) vs the
+// PSD projection of the Stable Neo-Hookean Hessian: analytic eigensystem ([Smith18 §4]) vs the
 // numerical baseline (exact Hessian + Eigen SelfAdjointEigenSolver<9x9> + clamp + rebuild), over the
 // same pre-generated random deformation gradients, with and without the rotation-variant SVD; plus the
 // two building blocks against their Eigen counterparts (SVD, symmetric 3x3 eigensolver).

@@ -1,4 +1,4 @@
-// Per-frame enrichment of a 50k-vertex surface (issue 5 target: <= 1 ms compute with 10 examples).
+// Per-frame enrichment of a 50k-vertex surface (target: <= 1 ms compute with 10 examples).
 // Groups:
 //   Mapping/KdTree vs Mapping/BruteForce: the eq. (1) displacement mapping of one blended 64x64 stamp,
 //     StampMapper (nanoflann ball query on the rest surface) vs a scan of every vertex.

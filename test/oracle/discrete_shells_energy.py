@@ -3,7 +3,7 @@
 
 Written from the papers, not from the C++ code: areas from cross products, tr G and det G from explicit
 2x2 first fundamental forms, dihedral angles from arccos of the normals' dot product with the sign from
-the edge direction, Grinspun et al.'s bending weight |e| / h_e with h_e a third of the average height of the two triangles.
+the edge direction, [Grinspun03]'s bending weight |e| / h_e with h_e a third of the average height of the two triangles.
 
 Input file (whitespace separated): line 1 "model V T k_L k_A mu lambda bending_weight" with model
 "classic" or "hyperelastic"; then V lines "x y z" of the reference, V lines of the deformed shape, T lines

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Independent oracle for the Stable Neo-Hookean material (DESIGN.md §4, paper 001 eq. 3.1).
+"""Independent oracle for the Stable Neo-Hookean material (docs/design.md §4, [Masanti19 eq. 3.1]).
 
 Only the energy density is taken from the design; everything else is derived here independently of the
 C++ code: PK1 by complex-step differentiation of psi, the Hessian by complex-step differentiation of the

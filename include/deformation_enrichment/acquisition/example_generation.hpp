@@ -1,5 +1,5 @@
 #pragma once
-// Example acquisition of paper 000 §3 on the slab scene (DESIGN.md §1, §4): for one tool interaction run
+// Example acquisition of [Seiler14 §3] on the slab scene (docs/design.md §1, §4): for one tool interaction run
 // the COARSE and the FINE quasi-static simulation with the same tool motion, interpolate the coarse
 // solution onto the fine surface through the barycentric embedding, take d = fine - coarse on the fine
 // surface vertices, describe the contact (p, B, R, rho, mu) from the coarse state with the ContactEnricher

@@ -1,5 +1,5 @@
 #pragma once
-// Held-out accuracy of the enrichment (issue 5): for interactions that are not in the example set, the
+// Held-out accuracy of the enrichment: for interactions that are not in the example set, the
 // fine simulation is the ground truth. The coarse state (carried onto the fine surface) is enriched with
 // the example set and both are compared with the fine state over the fine surface vertices within the
 // stamp radius of the contact. Simulation is separate from scoring so that one set of expensive fine

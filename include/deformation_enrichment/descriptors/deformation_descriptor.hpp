@@ -1,5 +1,5 @@
 #pragma once
-// Deformation descriptor mu of paper 000 §4.3: MLS deformation gradient F at p from the window's samples
+// Deformation descriptor mu of [Seiler14 §4.3]: MLS deformation gradient F at p from the window's samples
 // (weighted shape matching, kinematics/), polar F = R S, translation t = y_bar - R x_bar, rigid-free
 // displacement u_bar(x) = R^T (x + u - t) - x (eq. 10), and the Hermite moments of u_bar's three components
 // of orders 1..N (eq. 11; mu_0 vanishes because the weighted mean of u_bar is removed).

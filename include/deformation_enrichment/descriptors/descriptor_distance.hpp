@@ -1,5 +1,5 @@
 #pragma once
-// Dissimilarities of paper 000: d_rho = |rho - rho'| (eq. 9) and d_u = 1 - <mu, mu'> / (|mu| |mu'|) (eq. 14),
+// Dissimilarities of [Seiler14]: d_rho = |rho - rho'| (eq. 9) and d_u = 1 - <mu, mu'> / (|mu| |mu'|) (eq. 14),
 // with |.| = sqrt(<., .>) (the paper's shorthand drops the square roots). Both descriptors must be
 // expressed in the same frame (their stamping frames) beforehand.
 #include "deformation_enrichment/hermite/moment_list.hpp"

@@ -1,5 +1,5 @@
 #pragma once
-// Evaluates the contact descriptors of paper 000 §4 on one object: site descriptor rho (density moments of
+// Evaluates the contact descriptors of [Seiler14 §4] on one object: site descriptor rho (density moments of
 // orders 0..N), stamping frame B, and, given a deformed state, the deformation descriptor mu. Holds what is
 // built once per rest mesh: the point sampling with its KD-tree, the boundary surface with its normals
 // and a KD-tree over surface vertices (normal look-up at p).

@@ -1,5 +1,5 @@
 #pragma once
-// Hermite moments of a weighted point set around a point p (paper 000 eq. 7, 8, 11 and DESIGN.md §4):
+// Hermite moments of a weighted point set around a point p ([Seiler14 eq. 7], 8, 11 and docs/design.md §4):
 // r_m = (x_m - p) / h, M_n = sum_m q_m omega(|r_m|) H_n(r_m) f_m with H_n scaled by 1/sqrt(n!), over the
 // samples within the cut-off radius. Two quadratures:
 //   Volume  (default) q_m = V_m / h^3: a Riemann sum of the integral (7) in r = (x - p)/h, independent of

@@ -1,5 +1,5 @@
 #pragma once
-// The weighted point set that discretises the material domain Omega for moment integrals (paper 000 eq. 8):
+// The weighted point set that discretises the material domain Omega for moment integrals ([Seiler14 eq. 8]):
 // sample positions x_m with quadrature volumes V_m, plus a KD-tree (nanoflann) built once so that a
 // window query touches only the points within the cut-off radius.
 #include <Eigen/Core>

@@ -1,5 +1,5 @@
 #pragma once
-// Site descriptors depend on the rest shape only (DESIGN.md §4): computed once for every surface vertex,
+// Site descriptors depend on the rest shape only (docs/design.md §4): computed once for every surface vertex,
 // then looked up at a contact instead of recomputed per frame.
 #include <Eigen/Core>
 #include <vector>

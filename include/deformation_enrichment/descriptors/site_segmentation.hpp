@@ -1,5 +1,5 @@
 #pragma once
-// Site segmentation of paper 000 §6.1: site descriptors at all surface vertices, clustered by k-means with
+// Site segmentation of [Seiler14 §6.1]: site descriptors at all surface vertices, clustered by k-means with
 // d_rho (eq. 9) as the distance. Regions of similar local material neighbourhood (corners, edges, flat
 // parts, thin and thick parts) come out as clusters; acquisition uses them to choose example sites.
 #include <vector>

@@ -1,7 +1,7 @@
 #pragma once
-// Stamping frame B = [b_x b_y b_z] of paper 000 §4.4: b_z the surface normal at p, b_x the tangential part of
+// Stamping frame B = [b_x b_y b_z] of [Seiler14 §4.4]: b_z the surface normal at p, b_x the tangential part of
 // the first density moment rho_1, b_y = b_z x b_x. Where rho_1 has no tangential direction (flat regions,
-// symmetric sites) DESIGN.md §4 asks for fallbacks: the dominant tangential direction of the deformation,
+// symmetric sites) docs/design.md §4 asks for fallbacks: the dominant tangential direction of the deformation,
 // then a fixed deterministic choice. The result is always a proper rotation, never NaN.
 #include <Eigen/Core>
 

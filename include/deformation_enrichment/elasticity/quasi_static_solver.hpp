@@ -1,6 +1,6 @@
 #pragma once
 // Quasi-static equilibrium of a TetFem body under Dirichlet constraints: minimise E(x) over the free
-// vertices with Newton's method on the PSD-projected Hessian (the analytic eigensystem of paper 001
+// vertices with Newton's method on the PSD-projected Hessian (the analytic eigensystem of [Masanti19]
 // §3.3.5 clamps each element's negative modes, so every Newton system is positive semi-definite),
 // sparse Cholesky, and a back-tracking line search on the energy.
 #include <Eigen/Core>

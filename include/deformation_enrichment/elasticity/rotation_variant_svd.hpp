@@ -1,5 +1,5 @@
 #pragma once
-// Rotation-variant SVD of a 3x3 deformation gradient (Smith, de Goes, Kim 2018, §3 / paper 001 eq. 2.3):
+// Rotation-variant SVD of a 3x3 deformation gradient ([Smith18 §3], [Masanti19 eq. 2.3]):
 // F = U diag(sigma) V^T with U, V proper rotations (det = +1). A reflection in F is moved into the
 // smallest singular value, which is then negative, so sign(sigma_0 sigma_1 sigma_2) = sign(det F).
 // The SNH eigensystem (twist/flip/scaling modes) is only valid in this form.

@@ -1,9 +1,9 @@
 #pragma once
-// Stable Neo-Hookean hyperelasticity (paper 001 = Smith, de Goes, Kim, ACM TOG 2018; DESIGN.md §4).
+// Stable Neo-Hookean hyperelasticity ([Smith18] as presented in [Masanti19]; docs/design.md §4).
 //
 // Two variants, both parametrised by the user's Lamé constants (mu, lambda) and reparametrised so that
 // the Hessian at F = I equals the linear-elasticity tensor of (mu, lambda):
-//   Paper:      Psi = mu'/2 (I_C - 3) + lambda'/2 (J - alpha)^2 - mu'/2 log(I_C + 1)   (paper 001 eq. 3.1)
+//   Paper:      Psi = mu'/2 (I_C - 3) + lambda'/2 (J - alpha)^2 - mu'/2 log(I_C + 1)   ([Masanti19 eq. 3.1])
 //               mu' = 4/3 mu, lambda' = lambda + 5/6 mu, alpha = 1 + mu'/lambda' - mu'/(4 lambda').
 //   Production: Psi = mu'/2 (I_C - 3) + lambda'/2 (J - alpha)^2
 //               mu' = mu, lambda' = lambda + mu, alpha = 1 + mu'/lambda'.
@@ -34,7 +34,7 @@ LameParameters lameFromYoungPoisson(double youngModulus, double poissonRatio);
 /// (E, nu) of Lamé constants mu > 0, lambda > 0 (inverse of lameFromYoungPoisson).
 void youngPoissonFromLame(const LameParameters& lame, double& youngModulus, double& poissonRatio);
 
-/// The analytic eigensystem of the SNH Hessian at F (paper 001 §3.3; Smith et al. 2018 §4).
+/// The analytic eigensystem of the SNH Hessian at F ([Masanti19 §3.3]; [Smith18 §4]).
 /// Columns of `vectors` are orthonormal eigenvectors on vec(F): 0..2 scaling modes, 3..5 twist modes,
 /// 6..8 flip modes (mode 3 + k / 6 + k couples the singular directions other than k).
 struct SnhEigensystem {

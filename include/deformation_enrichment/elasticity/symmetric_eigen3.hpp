@@ -1,6 +1,6 @@
 #pragma once
 // Closed-form eigen-decomposition of a symmetric 3x3 matrix, for the SNH scaling-mode block of the PSD
-// projection (Smith et al. 2018 §4.3: "the 3x3 scaling block solved small"). The isolated eigenvalue
+// projection ([Smith18 §4.3]: "the 3x3 scaling block solved small"). The isolated eigenvalue
 // comes from the trigonometric solution of the characteristic cubic, its eigenvector from a cross
 // product, and the remaining pair from an exact 2x2 rotation, so (near-)repeated eigenvalues keep full
 // accuracy. Faster than Eigen's SelfAdjointEigenSolver<Matrix3d>::compute (bench_snh_projection).

@@ -1,5 +1,5 @@
 #pragma once
-// Linear-tetrahedron finite elements of a hyperelastic body (paper 001 applied per tet): rest shape,
+// Linear-tetrahedron finite elements of a hyperelastic body ([Masanti19] applied per tet): rest shape,
 // per-tet Dm^-1 and rest volume, per-tet material (heterogeneous, e.g. stiff skin over soft bulk), and
 // the assembled energy E(x) = sum_t V_t Psi_t(F_t), its gradient (minus the elastic forces) and its
 // sparse (projected) Hessian. Degrees of freedom are ordered 3 v + i (vertex v, axis i).
@@ -32,7 +32,7 @@ public:
   double maxShearModulus() const;
 
   /// F_t = Ds(x) Dm^-1 with Ds = [x1 - x0, x2 - x0, x3 - x0], the constant deformation gradient of a linear
-/// tet (written column-wise as in paper 001 eq. 2.1).
+/// tet (written column-wise as in [Masanti19 eq. 2.1]).
   Eigen::Matrix3d deformationGradient(const Eigen::Matrix3Xd& x, Eigen::Index t) const;
 
   /// E(x) = sum_t V_t Psi(F_t). Returns +infinity (not an exception) for positions so extreme that a

@@ -1,5 +1,5 @@
 #pragma once
-// Example correlation of paper 000 §5: dissimilarities d_rho (eq. 9) and d_u (eq. 14) of the current contact
+// Example correlation of [Seiler14 §5]: dissimilarities d_rho (eq. 9) and d_u (eq. 14) of the current contact
 // against every example, combined into Gaussian-kernel weights (eq. 15)
 //   w_i = exp(-d_rho(rho, rho[i])^2 / (2 sigma_rho^2) - d_u(mu, mu[i])^2 / (2 sigma_u^2)).
 // The examples are stored contiguously (one column each, components scaled by sqrt(multiplicity) so the
@@ -13,7 +13,7 @@ namespace deformation_enrichment::enrichment {
 
 struct KernelWidths {
   double sigmaRho = 1.0;
-  double sigmaU = 0.8;  ///< paper 000 Table 1 uses sigma_mu = 0.8
+  double sigmaU = 0.8;  ///< [Seiler14 Table 1] uses sigma_mu = 0.8
 };
 
 /// Example descriptors (each in its own stamping frame, as stored at acquisition).

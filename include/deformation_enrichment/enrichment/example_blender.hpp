@@ -1,5 +1,5 @@
 #pragma once
-// The run-time chain of paper 000 §5 for one contact, built once per loaded example set:
+// The run-time chain of [Seiler14 §5] for one contact, built once per loaded example set:
 //   eq. (15) weights of the current (rho, mu) against every example -> RBF interpolation with the
 //   examples' regularised kernel matrix -> blended stamp Psi = sum_i w~_i Psi[i] (eq. 16),
 // with the kernel widths fitted by leave-one-out cross-validation when the set is loaded.

@@ -1,5 +1,5 @@
 #pragma once
-// Cheaper variants of an acquired example set, for the run-time-vs-error trade-off of issue 5 (paper 000
+// Cheaper variants of an acquired example set, for the run-time-vs-error trade-off ([Seiler14]
 // Fig. 7 and §7): fewer stamp nodes, lower Hermite orders, fewer examples. Each variant is exactly what
 // acquisition at that setting would store, up to the stamp re-sampling noted below.
 #include "deformation_enrichment/examples/example.hpp"

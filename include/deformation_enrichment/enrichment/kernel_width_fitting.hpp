@@ -1,6 +1,6 @@
 #pragma once
 // Kernel widths (sigma_rho, sigma_u) of eq. (15) by leave-one-out cross-validation over the example set
-// (paper 000 §5: "minimizing the cross-validation error against the example data ... simple brute-force").
+// ([Seiler14 §5]: "minimizing the cross-validation error against the example data ... simple brute-force").
 // For every width pair on a grid and every example k: build the RBF interpolator (rbf_interpolation.hpp)
 // from the other examples, predict k's stamp as sum_i w~_i Psi[i] (eq. 16) from k's eq. (15) weights,
 // and sum the squared stamp differences. The error is relative: sum_k |Psi^_k - Psi_k|^2 / sum_k |Psi_k|^2.

@@ -1,5 +1,5 @@
 #pragma once
-// RBF interpolation of the example weights (paper 000 §5, following [SSH14]). The eq. (15) Gaussian
+// RBF interpolation of the example weights ([Seiler14 §5], following [Seiler14b]). The eq. (15) Gaussian
 // weights w(q) of a query q against the N examples are turned into interpolating weights
 //   w~ = (K^2 + lambda^2 I)^-1 K w,   K_ij = w_j(example i)  (the examples' kernel matrix),
 // the Tikhonov-regularised solution of K w~ = w. Without regularisation, a query equal to example i has

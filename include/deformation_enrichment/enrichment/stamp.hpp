@@ -1,5 +1,5 @@
 #pragma once
-// Stamps Psi: R^2 -> R^3 of paper 000 §3, stored as a regular grid of nodes (OpenCV CV_32FC3) spanning
+// Stamps Psi: R^2 -> R^3 of [Seiler14 §3], stored as a regular grid of nodes (OpenCV CV_32FC3) spanning
 // [-R, R]^2 in a stamping frame B around a contact p: node (row j, col k) sits at
 //   (phi, varphi) = (-R + k 2R/(cols-1), -R + j 2R/(rows-1)),  phi along b_x, varphi along b_y,
 // so the grid covers the square exactly and bilinear look-up reproduces affine fields everywhere in it.

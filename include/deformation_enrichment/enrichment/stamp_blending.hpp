@@ -1,5 +1,5 @@
 #pragma once
-// Blending of example stamps (paper 000 eq. 16) and the displacement mapping of eq. (1),
+// Blending of example stamps ([Seiler14 eq. 16]) and the displacement mapping of eq. (1),
 //   s~(x) = s(x) + e(x),  e(x) = R B Psi(phi, varphi),  (phi, varphi) = (b_x, b_y)^T (x - p),
 // with x the rest-state position of a surface vertex, p the contact's rest-state position, B the stamping
 // frame in rest axes and R the rotation of the local polar decomposition (rest axes -> deformed axes).

@@ -1,5 +1,5 @@
 #pragma once
-// One acquired example of paper 000 §3: contact p[i], stamping frame B[i], rest-site and deformation
+// One acquired example of [Seiler14 §3]: contact p[i], stamping frame B[i], rest-site and deformation
 // descriptors rho[i], mu[i] (both in the frame B[i]) and the stamp Psi[i] (fine - coarse surface
 // displacement in frame coordinates, a regular grid over [-R, R]^2 around p[i]), plus how it was made.
 #include <Eigen/Core>

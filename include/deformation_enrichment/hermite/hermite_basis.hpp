@@ -1,5 +1,5 @@
 #pragma once
-// Multivariate probabilists' Hermite basis of paper 000 eq. (2)-(3): with the Gaussian window
+// Multivariate probabilists' Hermite basis of [Seiler14 eq. 2-3]: with the Gaussian window
 // omega(r) = (2 pi)^(-3/2) exp(-|r|^2 / 2), (-1)^n grad^n omega = He_alpha(r) omega, and the basis
 // components are H_alpha(r) = He_ax(r_x) He_ay(r_y) He_az(r_z) / sqrt(n!).
 #include <Eigen/Core>

@@ -1,5 +1,5 @@
 #pragma once
-// A list of Hermite moments tau = (tau_first, ..., tau_last) (paper 000 §4.1), each a symmetric tensor
+// A list of Hermite moments tau = (tau_first, ..., tau_last) ([Seiler14 §4.1]), each a symmetric tensor
 // stored by distinct components, for `channels` scalar functions (1 for the density rho, 3 for the
 // displacement components of mu). Values are contiguous: channel-major, then order, then component.
 #include <Eigen/Core>

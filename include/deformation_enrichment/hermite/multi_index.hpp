@@ -1,5 +1,5 @@
 #pragma once
-// Distinct multi-indices of symmetric 3D tensors of order n <= kMaxHermiteOrder (paper 000 §4.1).
+// Distinct multi-indices of symmetric 3D tensors of order n <= kMaxHermiteOrder ([Seiler14 §4.1]).
 // A symmetric tensor of order n has (n+1)(n+2)/2 distinct components; component alpha = (a_x, a_y, a_z)
 // with a_x + a_y + a_z = n stands for the n!/alpha! index tuples that are permutations of it.
 #include <array>

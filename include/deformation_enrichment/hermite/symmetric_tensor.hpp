@@ -1,6 +1,6 @@
 #pragma once
 // Symmetric 3D tensors stored by their distinct components (multiIndices() order): full-tensor expansion,
-// the generalized dot product of paper 000 Appendix A, and basis transformation of Appendix B.
+// the generalized dot product of [Seiler14 Appendix A], and basis transformation of Appendix B.
 #include <Eigen/Core>
 
 namespace deformation_enrichment::hermite {

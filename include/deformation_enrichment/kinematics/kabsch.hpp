@@ -1,6 +1,6 @@
 #pragma once
 // Kabsch algorithm: the proper rotation R and translation t minimising sum w_m |R x_m + t - y_m|^2
-// between weighted point sets (seed 003: the 3D rotation between rest and deformed triangle or MLS
+// between weighted point sets ([Yan19]: the 3D rotation between rest and deformed triangle or MLS
 // neighbourhood). Reflection fix: if the best orthogonal map is a reflection, the axis of the smallest
 // singular value of the cross-covariance is flipped, so det R = +1 always.
 #include <Eigen/Core>

@@ -1,5 +1,5 @@
 #pragma once
-// Moving-least-squares deformation gradient by weighted shape matching (paper 000 §4.3 after
+// Moving-least-squares deformation gradient by weighted shape matching ([Seiler14 §4.3] after
 // Müller et al. 2005): F = A_pq A_qq^-1 with q_m = x_m - x_bar, p_m = y_m - y_bar,
 // A_pq = sum w_m p_m q_mᵀ, A_qq = sum w_m q_m q_mᵀ. F minimises sum w_m |F q_m - p_m|^2.
 //

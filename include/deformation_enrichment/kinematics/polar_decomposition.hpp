@@ -1,5 +1,5 @@
 #pragma once
-// Polar decomposition F = R S of a 3x3 deformation gradient (paper 000 §4.3: "F = grad u + I = R S"),
+// Polar decomposition F = R S of a 3x3 deformation gradient ([Seiler14 §4.3]: "F = grad u + I = R S"),
 // with R a proper rotation (det R = +1) and S symmetric. Computed from Eigen's SVD so it is defined for
 // every finite F: near-singular, rank-deficient and inverted (det F < 0) ones included.
 #include <Eigen/Core>

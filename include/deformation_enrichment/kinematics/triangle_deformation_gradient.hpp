@@ -1,8 +1,8 @@
 #pragma once
-// Per-triangle 2D deformation gradient (seed 003 eq. 2, after Rohmer et al.): F = [u1 u2][ū1 ū2]^-1
+// Per-triangle 2D deformation gradient ([Yan19 eq. 2], after [Rohmer10]): F = [u1 u2][ū1 ū2]^-1
 // with ū_i the rest edges and u_i the deformed edges, each expressed in its own triangle's orthonormal
 // 2D frame (not by dropping a 3D coordinate, which the seed's log does and which is wrong for every
-// triangle not parallel to the xy-plane). Stretch U = sqrt(C), C = FᵀF (seed 003 eqs. 15-20), from the
+// triangle not parallel to the xy-plane). Stretch U = sqrt(C), C = FᵀF ([Yan19 eqs. 15-20]), from the
 // eigen decomposition of C. Used for strain colouring.
 #include <Eigen/Core>
 

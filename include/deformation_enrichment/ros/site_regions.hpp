@@ -1,5 +1,5 @@
 #pragma once
-// Site segmentation of the rest surface for the SegmentSites service (paper 000 §6.1), and its rviz marker.
+// Site segmentation of the rest surface for the SegmentSites service ([Seiler14 §6.1]), and its rviz marker.
 #include <visualization_msgs/MarkerArray.h>
 
 #include <vector>

@@ -1,5 +1,5 @@
 #pragma once
-// Affine subspace y = origin + basis * q of R^n for the reduced smoothing flow (paper 004 §6,
+// Affine subspace y = origin + basis * q of R^n for the reduced smoothing flow ([Brandt16 §6],
 // "Dimensional reduction"): the PCA span of the sequence, enriched by extra directions (a shape's own
 // offset from the origin, flow tangents for short sequences). The basis is orthonormal.
 #include <vector>

@@ -1,6 +1,6 @@
 #pragma once
 // Deformation energy W[x_bar, x] between a reference (undeformed) shape x_bar and a deformed shape x over
-// one fixed topology (paper 004 §3: the dissimilarity measure of shape space). Shapes are flat vectors of
+// one fixed topology ([Brandt16 §3]: the dissimilarity measure of shape space). Shapes are flat vectors of
 // size 3V, xyz per vertex: (x_0, y_0, z_0, x_1, ...). The energy is not symmetric in its arguments.
 #include <memory>
 #include <vector>

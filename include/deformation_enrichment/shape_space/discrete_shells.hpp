@@ -1,13 +1,13 @@
 #pragma once
 // Discrete Shells deformation energy W[x_bar, x] = membrane + k_bend * bending for triangle meshes of one
-// fixed topology (paper 004 §3 and §7; DESIGN.md §4 "Shape space").
+// fixed topology ([Brandt16 §3 and §7]; docs/design.md §4 "Shape space").
 //
 // Membrane (choose one):
-//  - DiscreteShells (Grinspun et al. 2003): k_L sum_e (1 - |e|/|e_bar|)^2 |e_bar| + k_A sum_t (1 - A/A_bar)^2 A_bar.
-//  - Hyperelastic (Heeren et al. 2012 eq. 8, as in GOAST): sum_t A_bar W(tr G, det G), G = g_bar^-1 g,
+//  - DiscreteShells ([Grinspun03]): k_L sum_e (1 - |e|/|e_bar|)^2 |e_bar| + k_A sum_t (1 - A/A_bar)^2 A_bar.
+//  - Hyperelastic ([Heeren12 eq. 8], as in GOAST): sum_t A_bar W(tr G, det G), G = g_bar^-1 g,
 //    W(a, d) = mu/2 a + lambda/4 d - (mu/2 + lambda/4) log d - mu - lambda/4.
 // Bending: sum_e (theta_e - theta_bar_e)^2 c |e_bar|^2 / (A_bar_1 + A_bar_2), theta the dihedral angle;
-//   c = 3 with the DiscreteShells membrane (Grinspun et al.'s |e_bar| / h_bar_e, h_bar_e a third of the average
+//   c = 3 with the DiscreteShells membrane ([Grinspun03]'s |e_bar| / h_bar_e, h_bar_e a third of the average
 //   height of the two triangles) and c = 1 with the Hyperelastic membrane (GOAST's SimpleBendingEnergy).
 //
 // Non-manifold input: only edges shared by exactly two triangles carry a bending term. Boundary edges (one

@@ -1,5 +1,5 @@
 #pragma once
-// Elastic shape averaging (paper 004 §3/§6): A(w, y) = argmin_y sum_i w_i E(y_i, y)   (eq. 10), or the
+// Elastic shape averaging ([Brandt16 §3/§6]): A(w, y) = argmin_y sum_i w_i E(y_i, y)   (eq. 10), or the
 // symmetric sum_i w_i (E(y_i, y) + E(y, y_i))   (eq. 1). Full-space Newton with a sparse Cholesky
 // factorisation (CHOLMOD when available) and Levenberg-Marquardt damping; the damping is isotropic, so the
 // iteration commutes with rigid motions and never moves along the energy's rigid null space (the gradient

@@ -1,5 +1,5 @@
 #pragma once
-// Discrete geodesics between two shapes (paper 004 §5-6): temporal coarse-to-fine refinement. Starting
+// Discrete geodesics between two shapes ([Brandt16 §5-6]): temporal coarse-to-fine refinement. Starting
 // from the two end shapes, every level inserts `insertPerSegment` shapes between successive shapes
 // (initialised by rigid-aware interpolation) and then either
 //  - PathEnergy (default): minimises eq. 4 over all inner shapes at once (geodesic_path.hpp), reduced
@@ -36,7 +36,7 @@ struct GeodesicOptions {
   int maxIterationsPerLevel = 1000;  ///< flow steps (Flow) or Newton iterations (PathEnergy)
   /// Reduced mode: after a level meets the rule in its subspace, directions of eq. 9 at the current path
   /// (flow tangents for Flow, pathTangents for PathEnergy) are added to the subspace and the level is
-  /// solved again, at most this many times (paper 004 uses a Krylov enrichment of [vTSSH15] here). Without
+  /// solved again, at most this many times ([Brandt16] uses a Krylov enrichment of [vonTycowicz15] here). Without
   /// a ghost mesh a round is skipped once the unprojected full-space gradient meets the rule.
   int enrichmentRounds = 1;
   bool requireConvergence = true;  ///< throw NumericalError instead of returning an unconverged path
@@ -64,7 +64,7 @@ GeodesicResult geodesic(const DeformationEnergy& energy, const Eigen::Matrix3Xi&
 /// Length of a path as defined for GeodesicResult::length.
 double pathLength(const DeformationEnergy& energy, const std::vector<Eigen::VectorXd>& shapes);
 
-/// De Casteljau's algorithm in shape space (paper 004 §7): straight lines become geodesics. Each
+/// De Casteljau's algorithm in shape space ([Brandt16 §7]): straight lines become geodesics. Each
 /// geodesic is computed with `options.shapes` shapes; the point at parameter t between grid shapes
 /// x_k, x_k+1 is the elastic average A(1 - s, x_k, s, x_k+1) (exact on the grid). Returns `samples`
 /// shapes for t = 0 .. 1 (the first and last equal the first and last control shape).

@@ -1,13 +1,13 @@
 #pragma once
 // Direct minimisation of the discrete path energy (eq. 4) E[x_0..x_K] = sum_k W(x_k, x_k+1) + W(x_k+1, x_k)
 // over ALL inner shapes at once, the end shapes fixed (the variational definition of a discrete geodesic,
-// paper 004 §5; Heeren et al. 2012). Its critical points are those of the symmetric-average flow (eq. 1,
+// [Brandt16 §5]; [Heeren12]). Its critical points are those of the symmetric-average flow (eq. 1,
 // Lemma 2), reached without the flow's many small steps:
 //  - reduced: inner shape k = o_k + B q_k (o_k its initial value, B shared), BFGS over all q_k started from
 //    a quadratic model of the dense reduced Hessian B^T d2E B (a few hundred unknowns; measured on the
 //    finger: L-BFGS with a rest-Hessian preconditioner needed 200-400 evaluations, exact Newton about 10
 //    Hessians, each costing as much as 14 gradients); energy and derivatives optionally from the ghost mesh
-//    (paper 004 §6) with the same reduced coordinates;
+//    ([Brandt16 §6]) with the same reduced coordinates;
 //  - full: damped Newton in R^{3V (K-1)} with a sparse Cholesky factorisation, for checking.
 #include <vector>
 
@@ -20,7 +20,7 @@ namespace deformation_enrichment::shape_space {
 
 struct PathSolveOptions {
   int maxIterations = 3000;  ///< Newton / BFGS iterations
-  /// Stopping rule (paper 004 §6): |gradient|^2 <= max(absoluteFactor * dof, relativeFactor * |gradient at
+  /// Stopping rule ([Brandt16 §6]): |gradient|^2 <= max(absoluteFactor * dof, relativeFactor * |gradient at
   /// the start|^2); reduced mode uses the reduced gradient B^T grad (of the ghost energy if one is given).
   double absoluteFactor = 1e-8;
   double relativeFactor = 1e-10;

@@ -1,5 +1,5 @@
 #pragma once
-// Ghost mesh (paper 004 §6, "Energy and force approximation", after [HSvTP11]): a coarse version of the
+// Ghost mesh ([Brandt16 §6], "Energy and force approximation", after [vonTycowicz11]): a coarse version of the
 // fine mesh made by half-edge collapses, so its vertices are a SUBSET of the fine vertices. A fine shape
 // y = o + B q then has the ghost shape S y = S o + (S B) q, S the row selection of the kept vertices: the
 // ghost subspace is isomorphic to the fine one (same reduced coordinates q), and the reduced energy and
@@ -22,7 +22,7 @@ struct GhostMesh {
 };
 
 struct GhostMeshOptions {
-  int targetVertices = 1250;  ///< paper 004 Table 1 used 1246-1252
+  int targetVertices = 1250;  ///< [Brandt16 Table 1] used 1246-1252
   /// A collapse is refused if it leaves a triangle of its star with area / (sum of squared edge lengths)
   /// below this (equilateral: 0.144) or flips a triangle's normal, on the reference shape.
   double minTriangleQuality = 0.02;

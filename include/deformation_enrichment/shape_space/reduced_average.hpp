@@ -1,5 +1,5 @@
 #pragma once
-// Reduced elastic averaging (paper 004 §6, "Solving the reduced problem"): the unknown shape is restricted
+// Reduced elastic averaging ([Brandt16 §6], "Solving the reduced problem"): the unknown shape is restricted
 // to an affine subspace y = origin + B q and eq. 10 (or eq. 1) is minimised over q with L-BFGS (LBFGSpp).
 // The warm start uses an inverse-Hessian estimate computed once in a preprocess: the reduced rest Hessian
 // B^T d2d2 E(x, x) B of the shape's own energy, applied as a change of variables q = L^-T z (H_r = L L^T),

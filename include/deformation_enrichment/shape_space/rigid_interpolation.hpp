@@ -1,5 +1,5 @@
 #pragma once
-// Interpolating shapes for initialising geodesics (paper 004 §6, coarse-to-fine refinement): rigid part by
+// Interpolating shapes for initialising geodesics ([Brandt16 §6], coarse-to-fine refinement): rigid part by
 // Kabsch alignment and quaternion slerp, non-rigid remainder linearly. A rigidly moved copy is therefore
 // joined by the rigid path itself (zero elastic energy), and plain linear blending's shrinkage is avoided.
 #include <Eigen/Core>

@@ -1,5 +1,5 @@
 #pragma once
-// The discrete curve-smoothing flow in shape space (paper 004 §4-6):
+// The discrete curve-smoothing flow in shape space ([Brandt16 §4-6]):
 //   x_i <- A((1-rho) w_-, x_{i-1}, (1-rho)(1-tau), x_i, (1-rho) w_+, x_{i+1}, rho, input_i)   (eq. 2 + restoring)
 // with w_- = w_+ = tau/2 (fixed) or the proportion-preserving weights; open curves keep x_0 and x_m fixed,
 // closed curves wrap around. Every shape is updated from the previous iterate (Jacobi, as eq. 2 is
@@ -35,7 +35,7 @@ struct FlowOptions {
   bool reduced = false;              ///< reduced (subspace + L-BFGS) instead of full-space Newton
   int subspaceDimension = 16;        ///< PCA directions of the sequence (reduced mode)
   int flowDirectionShapes = 20;      ///< below this many shapes, flow tangents enrich the subspace (paper: 20)
-  /// Reduced mode: approximate the reduced energies and gradients on a ghost mesh (paper 004 §6) of the
+  /// Reduced mode: approximate the reduced energies and gradients on a ghost mesh ([Brandt16 §6]) of the
   /// first shape when the mesh has more than ghostMesh.targetVertices vertices. The averages, the step
   /// control and the residuals then use the ghost energy; the shapes stay fine (same reduced coordinates).
   bool useGhostMesh = true;
@@ -82,7 +82,7 @@ public:
   /// Squared norm of the flow's own fixed-point residual, projected like reducedPathGradientSquaredNorm
   /// (on the ghost mesh if one is used):
   /// eq. 3 for the symmetric average (eq. 1); d2 E(x_{i-1}, x_i) + d2 E(x_{i+1}, x_i) for eq. 10, whose
-  /// fixed points are the eq. 10-geodesics of paper 004 Table 2 (they differ slightly from eq. 3's).
+  /// fixed points are the eq. 10-geodesics of [Brandt16 Table 2] (they differ slightly from eq. 3's).
   double reducedResidualSquaredNorm() const;
   double reducedResidualSquaredNorm(const std::vector<Eigen::VectorXd>& shapes) const;
   /// Free degrees of freedom (full: 3V per free shape; reduced: subspace dimensions).

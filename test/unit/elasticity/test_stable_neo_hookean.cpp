@@ -1,5 +1,5 @@
 // Stable Neo-Hookean energy: derivatives against finite differences, rest stability, linear-elasticity
-// limit, parameter validation (paper 001 eq. 3.1; DESIGN.md §4).
+// limit, parameter validation ([Masanti19 eq. 3.1]; docs/design.md §4).
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>

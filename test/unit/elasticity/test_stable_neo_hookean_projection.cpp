@@ -1,5 +1,5 @@
 // Analytic SNH eigensystem and PSD projection against a numerical 9x9 eigen-decomposition-and-clamp
-// of the exact Hessian (Smith et al. 2018 §4; DESIGN.md §4).
+// of the exact Hessian ([Smith18 §4]; docs/design.md §4).
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>

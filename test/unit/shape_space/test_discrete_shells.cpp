@@ -155,7 +155,7 @@ TEST(DiscreteShells, SerialAndParallelEvaluationsAgree) {
   }
 }
 
-// DESIGN.md §4: GOAST evaluates W[finger0, finger1] = 0.0919995 (hyperelastic membrane, mu = lambda = 1,
+// docs/design.md §4: GOAST evaluates W[finger0, finger1] = 0.0919995 (hyperelastic membrane, mu = lambda = 1,
 // bending l^2 / (a1 + a2) weighted by delta = 0.001).
 TEST(DiscreteShells, MatchesGoastOnTheFingerPair) {
   const std::string directory = std::string(DE_SOURCE_DIR) + "/../shared/data/finger/";

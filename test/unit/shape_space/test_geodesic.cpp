@@ -76,7 +76,7 @@ TEST(Geodesic, FlowReducedAndFullLengthsAgreeWithinPointOnePercent) {
   full.solver = ss::GeodesicSolver::Flow;
   full.flow.tau = 1.0;
   // eq. 1 averaging: both modes then minimise eq. 4, so their lengths are comparable (with eq. 10 the
-  // flow is not a gradient flow and the reduced limit is a different fixed point; paper 004 Table 2).
+  // flow is not a gradient flow and the reduced limit is a different fixed point; [Brandt16 Table 2]).
   full.flow.symmetricAverage = true;
   ss::GeodesicOptions reduced = full;
   reduced.flow.reduced = true;

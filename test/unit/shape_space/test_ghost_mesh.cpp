@@ -1,4 +1,4 @@
-// Ghost mesh (paper 004 §6): half-edge collapse keeps a subset of the fine vertices, gives a valid
+// Ghost mesh ([Brandt16 §6]): half-edge collapse keeps a subset of the fine vertices, gives a valid
 // manifold mesh, approximates the shell energy of smooth deformations, and rejects bad input clearly.
 #include <gtest/gtest.h>
 
@@ -107,7 +107,7 @@ TEST(GhostMesh, ApproximatesTheShellEnergyOfSmoothDeformations) {
     const double approx = ghostEnergy->value(ghost.restrict(fine.vertices), ghost.restrict(deformed));
     EXPECT_NEAR(approx, exact, 0.25 * exact) << "kappa " << kappa << " stretch " << stretch;
   }
-  // Pure bending: the discrete bending term depends on the triangulation (Grinspun et al. 2003 weights
+  // Pure bending: the discrete bending term depends on the triangulation ([Grinspun03] weights
   // are exact only on regular meshes), so the irregular ghost is off by a factor (measured 1.99 here).
   const Eigen::VectorXd bentOnly = bent(fine.vertices, 0.8);
   const double exact = fineEnergy.value(fine.vertices, bentOnly);

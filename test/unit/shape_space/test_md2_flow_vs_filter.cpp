@@ -80,13 +80,13 @@ TEST(Md2FlowVsFilter, FlowDistortsShapesLessAtEqualTemporalSmoothness) {
   // frames 40..51: the "run" cycle and the start of the next animation (fast, large deformations)
   std::vector<de::mesh::TriangleMesh> frames(anim.frames.begin() + 40, anim.frames.begin() + 52);
   const ss::ShapeSequence input = ss::makeSequence(frames);
-  // GOAST's shell energy (bending weight 1e-3). With paper 004's classic weights (k_B = 1) four steps
+  // GOAST's shell energy (bending weight 1e-3). With [Brandt16]'s classic weights (k_B = 1) four steps
   // smooth so much that no Gaussian (sigma <= 20 frames) reaches the same roughness: not comparable.
   ss::DiscreteShells energy(input.triangles, input.numVertices(), ss::DiscreteShellsParameters::hyperelastic());
   energy.setThreadCount(1);
   ss::FlowOptions opt;
   opt.tau = 0.5;
-  // Reduced mode, as paper 004 runs it.
+  // Reduced mode, as [Brandt16] runs it.
   opt.reduced = true;
   opt.subspaceDimension = 11;
   ss::SmoothingFlow flow(energy, input, opt);

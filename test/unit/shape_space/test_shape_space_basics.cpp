@@ -22,7 +22,7 @@ const char* kFaerie = "/usr/share/assimp/models/MD2/faerie.md2";
 
 TEST(Md2Reader, ReadsAllFaerieFramesOverOneTopology) {
   const ss::Md2Animation anim = ss::readMd2(kFaerie);
-  ASSERT_EQ(anim.frames.size(), 198u);  // the header's frame count (issue 6: 198 frames)
+  ASSERT_EQ(anim.frames.size(), 198u);  // the header's frame count 
   ASSERT_EQ(anim.frameNames.size(), 198u);
   EXPECT_FALSE(anim.frameNames.front().empty());
   for (const auto& f : anim.frames) {

@@ -86,7 +86,7 @@ TEST(SmoothingFlow, FlowTangentIsADescentDirection) {  // Lemma 2 via eq. 9
   EXPECT_EQ(tangents.back().norm(), 0.0);
 }
 
-TEST(SmoothingFlow, ClosedSequenceContractsToAConstantShape) {  // paper 004 Fig. 4
+TEST(SmoothingFlow, ClosedSequenceContractsToAConstantShape) {  // [Brandt16 Fig. 4]
   FlowSetup s;
   std::vector<Eigen::VectorXd> shapes;
   const int m = 6;
