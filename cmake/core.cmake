@@ -1,6 +1,16 @@
-# The ROS-free core library, its command-line tools, unit tests and benchmarks.
-# Included by CMakeLists.txt in both build modes (catkin, or plain CMake with DE_CORE_ONLY=ON).
+# The ROS-free core: one shared library per layer (docs/design.md §2), its command-line tools, unit tests and
+# benchmarks. Included by CMakeLists.txt in both build modes (catkin, or plain CMake with DE_CORE_ONLY=ON).
 # Sources are collected per module folder, so adding a file to src/<module>/ needs no edit here.
+#
+#   deformation_enrichment_geometry     mesh, hermite, kinematics
+#   deformation_enrichment_descriptors  descriptors                 -> geometry
+#   deformation_enrichment_runtime      examples, enrichment        -> descriptors
+#   deformation_enrichment_simulation   elasticity, scenes, acquisition -> runtime (acquisition describes examples
+#                                       with the run-time code)
+#   deformation_enrichment_shape_space  shape_space                 -> geometry
+#
+# Dependencies point one way: a layer links only the layers below it, so an include of a higher layer (the
+# enrichment node including the simulator, say) fails to link.
 
 find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs)
@@ -9,35 +19,83 @@ find_package(OpenMP)
 find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse)
 find_library(CHOLMOD_LIBRARY cholmod)
 
-set(DE_CORE_MODULES mesh hermite kinematics descriptors examples enrichment elasticity acquisition scenes shape_space)
-set(DE_CORE_SOURCES "")
-foreach(module ${DE_CORE_MODULES})
-  file(GLOB module_sources CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/${module}/*.cpp)
-  list(APPEND DE_CORE_SOURCES ${module_sources})
-endforeach()
-
 set(DE_WARNINGS -Wall -Wextra)
 
-add_library(deformation_enrichment_core SHARED ${DE_CORE_SOURCES})
-target_compile_features(deformation_enrichment_core PUBLIC cxx_std_17)
-target_compile_options(deformation_enrichment_core PRIVATE ${DE_WARNINGS})
-target_include_directories(deformation_enrichment_core PUBLIC
-  $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>
-  $<INSTALL_INTERFACE:include>)
-# PCL stays private: no public core header includes it (slow to compile, see docs/design.md).
-target_include_directories(deformation_enrichment_core SYSTEM PRIVATE ${PCL_INCLUDE_DIRS})
-target_compile_definitions(deformation_enrichment_core PRIVATE ${PCL_DEFINITIONS})
-target_link_libraries(deformation_enrichment_core
-  PUBLIC Eigen3::Eigen ${OpenCV_LIBS}
-  PRIVATE ${PCL_LIBRARIES})
+# Module folder -> library of its layer (read by de_link_core_for below).
+set(DE_LAYER_geometry mesh hermite kinematics)
+set(DE_LAYER_descriptors descriptors)
+set(DE_LAYER_runtime examples enrichment)
+set(DE_LAYER_simulation elasticity scenes acquisition)
+set(DE_LAYER_shape_space shape_space)
+set(DE_LAYERS geometry descriptors runtime simulation shape_space)
+set(DE_CORE_LIBRARIES "")
+
+# A shared library must resolve every symbol it uses from the libraries it links, so a call into a layer it
+# does not link fails at its own link step (sanitizer runtimes are resolved by the executables).
+function(de_no_undefined target)
+  if(NOT DE_SANITIZE)
+    target_link_options(${target} PRIVATE -Wl,--no-undefined)
+  endif()
+endfunction()
+
+function(de_add_layer layer)
+  set(sources "")
+  foreach(module ${DE_LAYER_${layer}})
+    file(GLOB module_sources CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/${module}/*.cpp)
+    list(APPEND sources ${module_sources})
+    set_property(GLOBAL PROPERTY DE_LIBRARY_OF_${module} deformation_enrichment_${layer})
+  endforeach()
+  set(target deformation_enrichment_${layer})
+  add_library(${target} SHARED ${sources})
+  target_compile_features(${target} PUBLIC cxx_std_17)
+  target_compile_options(${target} PRIVATE ${DE_WARNINGS})
+  target_include_directories(${target} PUBLIC
+    $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>
+    $<INSTALL_INTERFACE:include>)
+  target_link_libraries(${target} PUBLIC ${ARGN})
+  de_no_undefined(${target})
+  set(DE_CORE_LIBRARIES ${DE_CORE_LIBRARIES} ${target} PARENT_SCOPE)
+endfunction()
+
+de_add_layer(geometry Eigen3::Eigen)
+# PCL stays private: no public core header includes it (slow to compile, see docs/design.md §2).
+target_include_directories(deformation_enrichment_geometry SYSTEM PRIVATE ${PCL_INCLUDE_DIRS})
+target_compile_definitions(deformation_enrichment_geometry PRIVATE ${PCL_DEFINITIONS})
+target_link_libraries(deformation_enrichment_geometry PRIVATE ${PCL_LIBRARIES})
+de_add_layer(descriptors deformation_enrichment_geometry)
+de_add_layer(runtime deformation_enrichment_descriptors ${OpenCV_LIBS})
+de_add_layer(simulation deformation_enrichment_runtime)
+de_add_layer(shape_space deformation_enrichment_geometry)
 if(OpenMP_CXX_FOUND)
-  target_link_libraries(deformation_enrichment_core PUBLIC OpenMP::OpenMP_CXX)
+  foreach(layer descriptors runtime simulation shape_space)
+    target_link_libraries(deformation_enrichment_${layer} PUBLIC OpenMP::OpenMP_CXX)
+  endforeach()
 endif()
 if(CHOLMOD_INCLUDE_DIR AND CHOLMOD_LIBRARY)
-  target_include_directories(deformation_enrichment_core SYSTEM PUBLIC ${CHOLMOD_INCLUDE_DIR})
-  target_link_libraries(deformation_enrichment_core PUBLIC ${CHOLMOD_LIBRARY})
-  target_compile_definitions(deformation_enrichment_core PUBLIC DE_HAVE_CHOLMOD=1)
+  foreach(layer simulation shape_space)
+    target_include_directories(deformation_enrichment_${layer} SYSTEM PUBLIC ${CHOLMOD_INCLUDE_DIR})
+    target_link_libraries(deformation_enrichment_${layer} PUBLIC ${CHOLMOD_LIBRARY})
+    target_compile_definitions(deformation_enrichment_${layer} PUBLIC DE_HAVE_CHOLMOD=1)
+  endforeach()
 endif()
+
+# Links `target` to the core layers whose headers its sources include (tools, tests and benchmarks may use
+# any layer; what they include is what they link).
+function(de_link_core_for target)
+  set(libraries "")
+  foreach(source ${ARGN})
+    file(STRINGS ${source} includes REGEX "^#include \"deformation_enrichment/[a-z_]+/")
+    foreach(line ${includes})
+      string(REGEX REPLACE "^#include \"deformation_enrichment/([a-z_]+)/.*" "\\1" module "${line}")
+      get_property(library GLOBAL PROPERTY DE_LIBRARY_OF_${module})
+      if(library)
+        list(APPEND libraries ${library})
+      endif()
+    endforeach()
+  endforeach()
+  list(REMOVE_DUPLICATES libraries)
+  target_link_libraries(${target} ${libraries})
+endfunction()
 
 # Command-line tools: src/tools/de_<name>.cpp becomes the executable de_<name>.
 file(GLOB DE_TOOL_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/tools/de_*.cpp)
@@ -46,7 +104,8 @@ foreach(tool_source ${DE_TOOL_SOURCES})
   get_filename_component(tool ${tool_source} NAME_WE)
   add_executable(${tool} ${tool_source})
   target_compile_options(${tool} PRIVATE ${DE_WARNINGS})
-  target_link_libraries(${tool} deformation_enrichment_core)
+  file(GLOB tool_headers ${PROJECT_SOURCE_DIR}/src/tools/*.hpp)
+  de_link_core_for(${tool} ${tool_source} ${tool_headers})
   list(APPEND DE_TOOL_TARGETS ${tool})
 endforeach()
 
@@ -63,13 +122,14 @@ if(DE_BUILD_TESTS)
   foreach(unit_dir ${DE_UNIT_DIRS})
     if(IS_DIRECTORY ${unit_dir})
       get_filename_component(module ${unit_dir} NAME)
-      file(GLOB unit_sources CONFIGURE_DEPENDS ${unit_dir}/*.cpp)
+      file(GLOB unit_sources CONFIGURE_DEPENDS ${unit_dir}/*.cpp ${unit_dir}/*.hpp)
       if(unit_sources)
         add_executable(unit_${module} ${unit_sources})
         target_compile_options(unit_${module} PRIVATE ${DE_WARNINGS})
         target_compile_definitions(unit_${module} PRIVATE
           DE_SOURCE_DIR="${PROJECT_SOURCE_DIR}" DE_TOOL_DIR="${DE_TOOL_DIR}")
-        target_link_libraries(unit_${module} deformation_enrichment_core GTest::gtest GTest::gtest_main)
+        de_link_core_for(unit_${module} ${unit_sources})
+        target_link_libraries(unit_${module} GTest::gtest GTest::gtest_main)
         if(DE_TOOL_TARGETS)
           add_dependencies(unit_${module} ${DE_TOOL_TARGETS})
         endif()
@@ -90,7 +150,32 @@ if(DE_BUILD_BENCHMARKS)
     if(NOT bench MATCHES "_ros$")
       add_executable(${bench} ${bench_source})
       target_compile_options(${bench} PRIVATE ${DE_WARNINGS})
-      target_link_libraries(${bench} deformation_enrichment_core benchmark::benchmark)
+      de_link_core_for(${bench} ${bench_source})
+      target_link_libraries(${bench} benchmark::benchmark)
     endif()
   endforeach()
+endif()
+
+# The layering as a test on the built libraries (ELF dependencies); the ROS layer adds its binaries.
+if(DE_BUILD_TESTS)
+  set(DE_LAYER_CHECKS
+    $<TARGET_FILE:deformation_enrichment_geometry>=descriptors,runtime,simulation,shape_space
+    $<TARGET_FILE:deformation_enrichment_descriptors>=runtime,simulation,shape_space
+    $<TARGET_FILE:deformation_enrichment_runtime>=simulation,shape_space
+    $<TARGET_FILE:deformation_enrichment_shape_space>=descriptors,runtime,simulation)
+  if(DE_CORE_ONLY)
+    add_test(NAME layers COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/test/layers/check_layers.py ${DE_LAYER_CHECKS})
+  endif()
+endif()
+
+# Accuracy cannot regress silently: the default slab set is acquired once per build folder (fixture) and its
+# held-out ratio is bounded; the ROS demo test reuses the set.
+if(DE_BUILD_TESTS AND TARGET de_make_examples AND TARGET de_evaluate)
+  set(DE_TEST_SLAB_SET ${CMAKE_BINARY_DIR}/test_example_sets/slab)
+  add_test(NAME slab_example_set COMMAND bash ${PROJECT_SOURCE_DIR}/test/accuracy/slab_example_set.sh
+    $<TARGET_FILE_DIR:de_make_examples> ${DE_TEST_SLAB_SET})
+  set_tests_properties(slab_example_set PROPERTIES FIXTURES_SETUP slab_set TIMEOUT 600)
+  add_test(NAME slab_held_out_accuracy COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/test/accuracy/held_out_ratio.py
+    $<TARGET_FILE_DIR:de_evaluate> ${DE_TEST_SLAB_SET} 0.45)
+  set_tests_properties(slab_held_out_accuracy PROPERTIES FIXTURES_REQUIRED slab_set TIMEOUT 600)
 endif()

@@ -14,7 +14,8 @@ generate_dynamic_reconfigure_options(cfg/Enrichment.cfg)
 
 catkin_package(
   INCLUDE_DIRS include
-  LIBRARIES deformation_enrichment_core deformation_enrichment_ros
+  LIBRARIES deformation_enrichment_geometry deformation_enrichment_descriptors deformation_enrichment_runtime
+            deformation_enrichment_simulation deformation_enrichment_shape_space deformation_enrichment_ros
   CATKIN_DEPENDS roscpp message_runtime std_msgs geometry_msgs sensor_msgs visualization_msgs shape_msgs
                  pcl_msgs diagnostic_msgs diagnostic_updater tf2 tf2_ros tf2_eigen tf2_geometry_msgs
                  pcl_conversions urdf nodelet pluginlib dynamic_reconfigure)
@@ -22,42 +23,38 @@ catkin_package(
 set(DE_BUILD_TESTS ${CATKIN_ENABLE_TESTING})
 include(cmake/core.cmake)
 
-# The ROS layer library: conversions, parameters, the node class (shared by node and nodelet).
+# The ROS layer library: conversions, parameters, the node class (shared by node and nodelet). It links the
+# run-time layer only: the enrichment node and nodelet never load the simulator or shape space.
 file(GLOB DE_ROS_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/ros/lib/*.cpp)
 add_library(deformation_enrichment_ros SHARED ${DE_ROS_SOURCES})
 target_compile_options(deformation_enrichment_ros PRIVATE ${DE_WARNINGS})
 target_include_directories(deformation_enrichment_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS})
 target_include_directories(deformation_enrichment_ros PUBLIC ${PROJECT_SOURCE_DIR}/include)
-target_link_libraries(deformation_enrichment_ros deformation_enrichment_core ${catkin_LIBRARIES})
+target_link_libraries(deformation_enrichment_ros deformation_enrichment_runtime ${catkin_LIBRARIES})
 add_dependencies(deformation_enrichment_ros ${PROJECT_NAME}_generate_messages_cpp ${PROJECT_NAME}_gencfg
   ${catkin_EXPORTED_TARGETS})
+
+de_no_undefined(deformation_enrichment_ros)
 
 add_library(deformation_enrichment_nodelets SHARED src/ros/enrichment_nodelet.cpp)
 target_compile_options(deformation_enrichment_nodelets PRIVATE ${DE_WARNINGS})
 target_link_libraries(deformation_enrichment_nodelets deformation_enrichment_ros)
 
-# Nodes: src/ros/<name>_node.cpp becomes the executable <name>_node.
-file(GLOB DE_NODE_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/ros/*_node.cpp)
+# Nodes (src/ros/<name>_node.cpp becomes <name>_node) and ROS command-line tools (src/ros/de_<name>.cpp
+# becomes de_<name>): the ROS library plus the core layers each one includes (the demo scene the simulator,
+# the shape-space server and de_smooth_bag the shape space).
+file(GLOB DE_NODE_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/ros/*_node.cpp ${PROJECT_SOURCE_DIR}/src/ros/de_*.cpp)
 set(DE_NODE_TARGETS "")
 foreach(node_source ${DE_NODE_SOURCES})
   get_filename_component(node ${node_source} NAME_WE)
   add_executable(${node} ${node_source})
   target_compile_options(${node} PRIVATE ${DE_WARNINGS})
   target_link_libraries(${node} deformation_enrichment_ros)
+  de_link_core_for(${node} ${node_source})
   list(APPEND DE_NODE_TARGETS ${node})
 endforeach()
 
-# ROS command-line tools (rosbag and friends): src/ros/de_<name>.cpp becomes de_<name>.
-file(GLOB DE_ROS_TOOL_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/ros/de_*.cpp)
-foreach(tool_source ${DE_ROS_TOOL_SOURCES})
-  get_filename_component(tool ${tool_source} NAME_WE)
-  add_executable(${tool} ${tool_source})
-  target_compile_options(${tool} PRIVATE ${DE_WARNINGS})
-  target_link_libraries(${tool} deformation_enrichment_ros)
-  list(APPEND DE_NODE_TARGETS ${tool})
-endforeach()
-
-install(TARGETS deformation_enrichment_core deformation_enrichment_ros deformation_enrichment_nodelets
+install(TARGETS ${DE_CORE_LIBRARIES} deformation_enrichment_ros deformation_enrichment_nodelets
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_GLOBAL_BIN_DESTINATION})
@@ -74,6 +71,7 @@ if(DE_BUILD_BENCHMARKS)
     add_executable(${bench} ${bench_source})
     target_compile_options(${bench} PRIVATE ${DE_WARNINGS})
     target_link_libraries(${bench} deformation_enrichment_ros)
+    de_link_core_for(${bench} ${bench_source})
     add_dependencies(${bench} enrichment_node deformation_enrichment_nodelets)
   endforeach()
 endif()
@@ -81,24 +79,38 @@ endif()
 # Integration tests against a real master (rostest starts one per test file).
 if(CATKIN_ENABLE_TESTING)
   find_package(rostest REQUIRED)
-  add_rostest_gtest(test_enrichment_node test/ros/enrichment_node.test test/ros/test_enrichment_node.cpp)
-  target_compile_options(test_enrichment_node PRIVATE ${DE_WARNINGS})
-  target_link_libraries(test_enrichment_node deformation_enrichment_ros)
-  add_dependencies(test_enrichment_node enrichment_node deformation_enrichment_nodelets)
+  # de_rostest_gtest(<target> <launch file> SOURCES <test/ros sources> DEPENDS <targets the launch file runs>)
+  function(de_rostest_gtest target launch)
+    cmake_parse_arguments(ARG "" "" "SOURCES;DEPENDS" ${ARGN})
+    add_rostest_gtest(${target} ${launch} ${ARG_SOURCES})
+    target_compile_options(${target} PRIVATE ${DE_WARNINGS})
+    target_link_libraries(${target} deformation_enrichment_ros)
+    list(TRANSFORM ARG_SOURCES PREPEND ${PROJECT_SOURCE_DIR}/)
+    de_link_core_for(${target} ${ARG_SOURCES} ${PROJECT_SOURCE_DIR}/test/ros/enrichment_node_fixture.hpp)
+    add_dependencies(${target} ${ARG_DEPENDS})
+  endfunction()
+  de_rostest_gtest(test_enrichment_node test/ros/enrichment_node.test SOURCES test/ros/test_enrichment_node.cpp
+    DEPENDS enrichment_node deformation_enrichment_nodelets)
   add_rostest(test/ros/enrichment_nodelet.test DEPENDENCIES test_enrichment_node)
-  add_rostest_gtest(test_enrichment_knobs test/ros/enrichment_knobs.test test/ros/test_enrichment_knobs.cpp
-    test/ros/test_tool_tip.cpp)
-  target_compile_options(test_enrichment_knobs PRIVATE ${DE_WARNINGS})
-  target_link_libraries(test_enrichment_knobs deformation_enrichment_ros)
-  add_dependencies(test_enrichment_knobs enrichment_node deformation_enrichment_nodelets)
+  de_rostest_gtest(test_enrichment_knobs test/ros/enrichment_knobs.test
+    SOURCES test/ros/test_enrichment_knobs.cpp test/ros/test_tool_tip.cpp DEPENDS enrichment_node deformation_enrichment_nodelets)
   add_rostest(test/ros/enrichment_knobs_nodelet.test DEPENDENCIES test_enrichment_knobs)
   add_rostest(test/ros/demo.test DEPENDENCIES ${DE_NODE_TARGETS})
-  add_rostest_gtest(test_recorded_sequence test/ros/recorded_sequence.test test/ros/test_recorded_sequence.cpp)
-  target_compile_options(test_recorded_sequence PRIVATE ${DE_WARNINGS})
-  target_link_libraries(test_recorded_sequence deformation_enrichment_ros)
-  add_dependencies(test_recorded_sequence enrichment_node)
-  add_rostest_gtest(test_shape_space_server test/ros/shape_space_server.test test/ros/test_shape_space_server.cpp)
-  target_compile_options(test_shape_space_server PRIVATE ${DE_WARNINGS})
-  target_link_libraries(test_shape_space_server deformation_enrichment_ros)
-  add_dependencies(test_shape_space_server ${DE_NODE_TARGETS})
+  set_tests_properties(_ctest_${PROJECT_NAME}_rostest_test_ros_demo.test PROPERTIES
+    FIXTURES_REQUIRED slab_set ENVIRONMENT DE_TEST_SLAB_SET=${DE_TEST_SLAB_SET})
+  # rosrun / roslaunch as a user runs them, from the devel space's environment.
+  set(DE_RUN_EXECUTABLES "")
+  foreach(exe ${DE_NODE_TARGETS} ${DE_TOOL_TARGETS})
+    list(APPEND DE_RUN_EXECUTABLES $<TARGET_FILE_NAME:${exe}>)
+  endforeach()
+  add_test(NAME rosrun_roslaunch COMMAND ${CATKIN_DEVEL_PREFIX}/env.sh bash ${PROJECT_SOURCE_DIR}/test/ros/rosrun_roslaunch.sh
+    ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION} ${PROJECT_SOURCE_DIR}/test/data/slab_tap.bag ${DE_RUN_EXECUTABLES})
+  add_test(NAME layers COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/test/layers/check_layers.py ${DE_LAYER_CHECKS}
+    $<TARGET_FILE:deformation_enrichment_ros>=simulation,shape_space
+    $<TARGET_FILE:deformation_enrichment_nodelets>=simulation,shape_space
+    $<TARGET_FILE:enrichment_node>=simulation,shape_space)
+  de_rostest_gtest(test_recorded_sequence test/ros/recorded_sequence.test SOURCES test/ros/test_recorded_sequence.cpp
+    DEPENDS enrichment_node)
+  de_rostest_gtest(test_shape_space_server test/ros/shape_space_server.test SOURCES test/ros/test_shape_space_server.cpp
+    DEPENDS ${DE_NODE_TARGETS})
 endif()

@@ -13,6 +13,7 @@
 
 #include "deformation_enrichment/elasticity/quasi_static_solver.hpp"
 #include "deformation_enrichment/elasticity/tet_fem.hpp"
+#include "deformation_enrichment/enrichment/example_set_options.hpp"
 #include "deformation_enrichment/enrichment/stamp.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/examples/example_set_io.hpp"
@@ -155,7 +156,8 @@ void writePlan(const std::string& path, const std::vector<PlanEntry>& plan) {
   if (!out) throw IoError(path + ": failed while writing");
 }
 
-void applyResolutionMetadata(const std::map<std::string, double>& material, SlabAcquisitionOptions& options) {
+void applyResolutionMetadata(const examples::ExampleSet& set, SlabAcquisitionOptions& options) {
+  const std::map<std::string, double>& material = set.metadata.material;
   const auto get = [&](const char* key, int& value) {
     const auto it = material.find(key);
     if (it != material.end()) value = static_cast<int>(std::lround(it->second));
@@ -176,15 +178,7 @@ void applyResolutionMetadata(const std::map<std::string, double>& material, Slab
   if (stiffness != material.end()) options.toolStiffness = stiffness->second;
   const auto coarseSkin = material.find("coarse_skin_young_pa");
   if (coarseSkin != material.end()) options.coarseSkinYoung = coarseSkin->second;
-  const auto radius = material.find("stamp_radius_m");
-  if (radius != material.end()) options.enricher.stampRadius = radius->second;
-  const auto average = material.find("average_quadrature");
-  options.enricher.descriptors.window.quadrature =
-      average != material.end() && average->second == 1.0 ? descriptors::Quadrature::Average : descriptors::Quadrature::Volume;
-  const auto spacing = material.find("site_sample_spacing_m");
-  if (spacing != material.end()) options.enricher.sampleSpacing = spacing->second;
-  const auto h = material.find("window_scale_m");
-  if (h != material.end()) options.enricher.descriptors.window.scale = h->second;
+  options.enricher = enrichment::optionsFor(set, options.enricher);
 }
 
 std::vector<PlanEntry> defaultSlabPlan() {
@@ -236,20 +230,18 @@ const mesh::TriangleMesh& SlabAcquisition::fineSurface() const { return impl_->f
 enrichment::ContactEnricher& SlabAcquisition::enricher() { return *impl_->enricher; }
 
 std::map<std::string, double> SlabAcquisition::materialMetadata() const {
-  return {{"bulk_young_pa", options_.bulkYoung}, {"bulk_poisson", options_.bulkPoisson},
+  std::map<std::string, double> metadata = enrichment::descriptorMetadata(options_.enricher);
+  metadata.insert({{"bulk_young_pa", options_.bulkYoung}, {"bulk_poisson", options_.bulkPoisson},
           {"skin_young_pa", options_.skinYoung}, {"skin_poisson", options_.skinPoisson},
           {"coarse_skin_young_pa", options_.coarseSkinYoung > 0.0 ? options_.coarseSkinYoung : options_.skinYoung},
           {"skin_thickness_m", options_.fine.skinThickness}, {"tool_radius_m", options_.toolRadius},
           {"tool_model", options_.toolModel == ToolModel::Penalty ? 1.0 : 0.0},
           {"tool_stiffness_pa_per_m", options_.toolStiffness},
-          {"window_scale_m", options_.enricher.descriptors.window.scale},
-          {"site_sample_spacing_m", options_.enricher.sampleSpacing},
-          {"stamp_radius_m", options_.enricher.stampRadius},
-          {"average_quadrature", options_.enricher.descriptors.window.quadrature == descriptors::Quadrature::Average ? 1.0 : 0.0},
           {"coarse_cells_x", options_.coarse.cells.x()}, {"coarse_cells_y", options_.coarse.cells.y()},
           {"coarse_cells_z", options_.coarse.cells.z()}, {"fine_cells_x", options_.fine.cells.x()},
           {"fine_cells_y", options_.fine.cells.y()}, {"fine_cells_z", options_.fine.cells.z()},
-          {"fine_skin_layers", options_.fine.skinLayers}};
+          {"fine_skin_layers", options_.fine.skinLayers}});
+  return metadata;
 }
 
 enrichment::Contact SlabAcquisition::contactOf(const PlanEntry& entry) {

@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
   try {
     // The slab the example set was acquired on (resolutions, materials, tool), so the states match its examples.
     if (!setPath.empty())
-      de::acquisition::applyResolutionMetadata(de::examples::loadExampleSet(setPath).metadata.material, options);
+      de::acquisition::applyResolutionMetadata(de::examples::loadExampleSet(setPath), options);
     slab = std::make_unique<de::acquisition::SlabAcquisition>(options);
     for (const de::acquisition::PlanEntry& entry : de::acquisition::heldOutSlabContacts()) {
       Tap tap{entry, {}, {}};

@@ -64,7 +64,7 @@ int main(int argc, char** argv) {
     }
     const examples::ExampleSet set = examples::loadExampleSet(setPath);
     acquisition::SlabAcquisitionOptions options;
-    acquisition::applyResolutionMetadata(set.metadata.material, options);  // the slabs and h the set was made with
+    acquisition::applyResolutionMetadata(set, options);  // the slabs and h the set was made with
     options.enricher.stampGain = gain;
     options.enricher.rimBand = rimBand;
     options.enricher.magnitudeAware = !correlationOnly;

@@ -166,10 +166,16 @@ TEST_F(EnrichmentNodeTest, SegmentSitesLabelsEveryVertexSymmetricallyAndRejectsB
   EXPECT_EQ(vertexAt(0.05, -0.05, 0.02), corner);
   EXPECT_NE(vertexAt(0.0, 0.0, 0.02), corner);
 
-  call.request.regions = 0;
-  ASSERT_TRUE(ros::service::call("enrichment/segment_sites", call));
-  EXPECT_FALSE(call.response.success);
-  EXPECT_FALSE(call.response.message.empty());
+  for (const uint32_t regions : {0u, 4000000000u, static_cast<uint32_t>(rest_.numVertices()) + 1}) {
+    SCOPED_TRACE(regions);
+    call.request.regions = regions;
+    ASSERT_TRUE(ros::service::call("enrichment/segment_sites", call));
+    EXPECT_FALSE(call.response.success);
+    // The message names the request as sent (no wrap-around to a negative count) and the valid range.
+    EXPECT_NE(call.response.message.find(std::to_string(regions)), std::string::npos) << call.response.message;
+    EXPECT_NE(call.response.message.find("[1, " + std::to_string(rest_.numVertices()) + "]"), std::string::npos)
+        << call.response.message;
+  }
   EXPECT_TRUE(roundTrip(goodState())) << "the node must keep enriching after a failed segmentation";
 }
 

@@ -83,9 +83,9 @@ struct InteractionResult {
 /// else $XDG_CACHE_HOME (or ~/.cache)/deformation_enrichment/example_sets/<scene>.
 std::string defaultExampleSetDirectory(const std::string& scene);
 
-/// Restores the resolutions, tool model, stamp radius and window scale a set was acquired with (materialMetadata keys), so that
-/// evaluation rebuilds the same coarse / fine slabs and descriptors.
-void applyResolutionMetadata(const std::map<std::string, double>& material, SlabAcquisitionOptions& options);
+/// Restores the resolutions and tool model a set was acquired with (materialMetadata keys) and its descriptor
+/// options (enrichment::optionsFor), so that evaluation rebuilds the same coarse / fine slabs and descriptors.
+void applyResolutionMetadata(const examples::ExampleSet& set, SlabAcquisitionOptions& options);
 
 class SlabAcquisition {
 public:

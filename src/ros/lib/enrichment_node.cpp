@@ -290,6 +290,13 @@ bool EnrichmentNode::onSegmentSites(SegmentSites::Request& request, SegmentSites
     response.message = "no rest mesh yet";
     return true;
   }
+  const auto vertices = static_cast<uint64_t>(rest->vertices.cols());
+  if (request.regions < 1 || request.regions > vertices) {
+    response.message = "segment_sites: regions must be in [1, " + std::to_string(vertices) + "] (one per rest vertex at most), got " +
+                       std::to_string(request.regions);
+    ROS_ERROR("%s", response.message.c_str());
+    return true;
+  }
   try {
     const std::vector<int> labels = segmentRestSurface(*rest, static_cast<int>(request.regions), segmentation_);
     response.labels.assign(labels.begin(), labels.end());

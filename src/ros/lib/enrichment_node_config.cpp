@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "deformation_enrichment/enrichment/descriptor_order.hpp"
+#include "deformation_enrichment/enrichment/example_set_options.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/examples/example_set_io.hpp"
 #include "deformation_enrichment/ros/enrichment_node.hpp"
@@ -15,20 +16,16 @@ namespace deformation_enrichment::ros_layer {
 std::unique_ptr<enrichment::ContactEnricher> EnrichmentNode::makeEnricher(const mesh::TriangleMesh& rest,
                                                                           const examples::ExampleSet& set,
                                                                           const EnrichmentKnobs& knobs) const {
-  enrichment::ContactEnricherOptions options;
-  options.descriptors.window.scale = segmentation_.scale;
-  options.sampleSpacing = segmentation_.sampleSpacing;
-  // Describe contacts exactly as the examples were described: their window scale and interior sampling.
-  const auto h = set.metadata.material.find("window_scale_m");
-  if (h != set.metadata.material.end()) options.descriptors.window.scale = h->second;
-  const auto spacing = set.metadata.material.find("site_sample_spacing_m");
-  if (spacing != set.metadata.material.end()) options.sampleSpacing = spacing->second;
-  // The run time computes the descriptors with the orders the examples store (a lower mu order by knob).
-  const int built = enrichment::deformationOrder(set);
+  // Contacts are described exactly as the set's examples were (window, quadrature, interior sampling,
+  // orders, stamp radius); ~descriptor_scale and ~segmentation_sample_spacing only fill in what a set
+  // does not record. A lower mu order may be chosen by knob.
+  enrichment::ContactEnricherOptions defaults;
+  defaults.descriptors.window.scale = segmentation_.scale;
+  defaults.sampleSpacing = segmentation_.sampleSpacing;
+  enrichment::ContactEnricherOptions options = enrichment::optionsFor(set, defaults);
+  const int built = options.descriptors.deformationOrder;
   const int order = knobs.hermiteOrder > 0 ? std::min(knobs.hermiteOrder, built) : built;
   options.descriptors.deformationOrder = order;
-  options.descriptors.siteOrder = set.examples.front().rho.lastOrder();
-  options.stampRadius = set.examples.front().stampRadius;
   options.stampGain = knobs.stampGain;
   auto enricher = std::make_unique<enrichment::ContactEnricher>(rest, options);
   // Truncated mu: the leave-one-out widths are fitted for the descriptors actually compared.
