@@ -105,6 +105,10 @@ if(CATKIN_ENABLE_TESTING)
   endforeach()
   add_test(NAME rosrun_roslaunch COMMAND ${CATKIN_DEVEL_PREFIX}/env.sh bash ${PROJECT_SOURCE_DIR}/test/ros/rosrun_roslaunch.sh
     ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION} ${PROJECT_SOURCE_DIR}/test/data/slab_tap.bag ${DE_RUN_EXECUTABLES})
+  # The README's own-workspace path (catkin_make in a fresh catkin_ws), from a clean environment.
+  add_test(NAME catkin_workspace COMMAND env -i PATH=/usr/bin:/bin HOME=$ENV{HOME} ROS_HOME=${CMAKE_BINARY_DIR}/ros_home
+    bash ${PROJECT_SOURCE_DIR}/test/ros/catkin_workspace.sh ${PROJECT_SOURCE_DIR})
+  set_tests_properties(catkin_workspace PROPERTIES TIMEOUT 1800)
   add_test(NAME layers COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/test/layers/check_layers.py ${DE_LAYER_CHECKS}
     $<TARGET_FILE:deformation_enrichment_ros>=simulation,shape_space
     $<TARGET_FILE:deformation_enrichment_nodelets>=simulation,shape_space
