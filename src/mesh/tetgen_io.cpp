@@ -44,6 +44,16 @@ public:
     throw IoError(path_ + ":" + std::to_string(line) + ": " + message);
   }
 
+  /// A record's leading index must be `expected` and it must have at least `needed` fields.
+  void checkRecord(const Record& record, long index, long expected, std::uint64_t needed, const std::string& what) const {
+    if (index != expected)
+      fail(record.line, what + " index " + std::to_string(index) + " out of sequence (expected " +
+                            std::to_string(expected) + ")");
+    if (record.fields.size() < needed)
+      fail(record.line, what + " has " + std::to_string(record.fields.size()) + " fields, expected " +
+                            std::to_string(needed));
+  }
+
   long integer(const Record& record, std::size_t field, const std::string& name) const {
     if (field >= record.fields.size()) fail(record.line, "missing " + name);
     const std::optional<long> value = parseInteger(record.fields[field]);
@@ -109,12 +119,7 @@ int readNodes(RecordReader& node, TetMesh& mesh) {
       if (index != 0 && index != 1) node.fail(record.line, "first point index must be 0 or 1");
       indexBase = static_cast<int>(index);
     }
-    if (index != i + indexBase)
-      node.fail(record.line, "point index " + std::to_string(index) + " out of sequence (expected " +
-                                 std::to_string(i + indexBase) + ")");
-    if (record.fields.size() < needed)
-      node.fail(record.line, "point has " + std::to_string(record.fields.size()) + " fields, expected " +
-                                 std::to_string(needed));
+    node.checkRecord(record, index, i + indexBase, needed, "point");
     reserveColumn(mesh.vertices, i, count);
     for (int k = 0; k < 3; ++k) mesh.vertices(k, i) = node.real(record, 1 + k, "coordinate");
   }
@@ -150,12 +155,7 @@ void readElements(RecordReader& ele, int indexBase, TetGenMesh& result) {
   for (long t = 0; t < count; ++t) {
     const Record record = ele.next("tetrahedron " + std::to_string(t));
     const long index = ele.integer(record, 0, "tetrahedron index");
-    if (index != t + indexBase)
-      ele.fail(record.line, "tetrahedron index " + std::to_string(index) + " out of sequence (expected " +
-                                std::to_string(t + indexBase) + ")");
-    if (record.fields.size() < needed)
-      ele.fail(record.line, "tetrahedron has " + std::to_string(record.fields.size()) + " fields, expected " +
-                                std::to_string(needed));
+    ele.checkRecord(record, index, t + indexBase, needed, "tetrahedron");
     reserveColumn(result.mesh.tets, t, count);
     result.mesh.tets.col(t) = tetCorners(ele, record, indexBase, result.mesh.numVertices());
     const double id = attributes > 0 ? ele.real(record, 1 + corners, "region attribute") : 0.0;

@@ -6,8 +6,10 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <sstream>
 #include <string>
 
+#include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/triangle_mesh.hpp"
 
 // An accepted input whose result breaks the loader's contract is a finding: abort, so libFuzzer saves it.
@@ -25,6 +27,16 @@ namespace deformation_enrichment::fuzz {
 inline void checkTriangleMesh(const mesh::TriangleMesh& m) {
   DE_FUZZ_CHECK(m.numVertices() > 0 && m.numTriangles() > 0 && m.vertices.allFinite());
   DE_FUZZ_CHECK(m.triangles.minCoeff() >= 0 && m.triangles.maxCoeff() < m.numVertices());
+}
+
+/// The OBJ / PLY harnesses: `read(stream, name)` on the input's bytes; IoError is a rejection.
+template <class Reader>
+void readMeshBytes(Reader read, const std::uint8_t* data, std::size_t size, const std::string& name) {
+  std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));
+  try {
+    checkTriangleMesh(read(in, name));
+  } catch (const IoError&) {
+  }
 }
 
 /// `/dev/shm/de_fuzz_<pid><suffix>`, rewritten with every input and removed at exit.

@@ -10,6 +10,7 @@
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/point_cloud_layout.hpp"
 #include "deformation_enrichment/mesh/triangle_mesh_from_cloud.hpp"
+#include "../expect_error.hpp"
 
 namespace de = deformation_enrichment;
 namespace mesh = deformation_enrichment::mesh;
@@ -42,12 +43,8 @@ Eigen::Matrix3Xf ramp(Eigen::Index n) {
 }
 
 void expectInvalid(const Cloud& c, const std::string& fragment) {
-  try {
-    mesh::decodePositions(c.layout, c.data.data(), c.data.size());
-    ADD_FAILURE() << "accepted a bad cloud (expected: " << fragment << ")";
-  } catch (const de::InvalidInputError& e) {
-    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-  }
+  expectErrorContaining<de::InvalidInputError>([&] { mesh::decodePositions(c.layout, c.data.data(), c.data.size()); },
+                                               fragment);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/grid_tet_mesh.hpp"
 #include "deformation_enrichment/mesh/tetgen_io.hpp"
+#include "../expect_error.hpp"
 
 using namespace deformation_enrichment;
 
@@ -110,12 +111,7 @@ namespace {
 /// readTetGen on in-memory texts must throw IoError whose message contains `fragment`.
 void expectRejectedText(const std::string& node, const std::string& ele, const std::string& fragment) {
   std::istringstream nodeIn(node), eleIn(ele);
-  try {
-    mesh::readTetGen(nodeIn, eleIn, "mem");
-    ADD_FAILURE() << "accepted (expected: " << fragment << ")";
-  } catch (const IoError& error) {
-    EXPECT_NE(std::string(error.what()).find(fragment), std::string::npos) << error.what();
-  }
+  expectErrorContaining<IoError>([&] { mesh::readTetGen(nodeIn, eleIn, "mem"); }, fragment);
 }
 }  // namespace
 
