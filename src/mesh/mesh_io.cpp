@@ -12,7 +12,8 @@
 #include <fstream>
 
 #include "deformation_enrichment/error.hpp"
-#include "deformation_enrichment/mesh/polygon_triangulation.hpp"
+#include "deformation_enrichment/mesh/obj_reader.hpp"
+#include "deformation_enrichment/mesh/ply_reader.hpp"
 
 namespace deformation_enrichment::mesh {
 namespace {
@@ -26,26 +27,6 @@ Format formatOf(const std::string& path) {
   if (ext == "obj") return Format::Obj;
   if (ext == "ply") return Format::Ply;
   throw IoError("mesh file '" + path + "' has an unsupported extension (expected .obj or .ply)");
-}
-
-TriangleMesh fromPolygonMesh(const pcl::PolygonMesh& polygons, const std::string& path) {
-  pcl::PointCloud<pcl::PointXYZ> cloud;
-  pcl::fromPCLPointCloud2(polygons.cloud, cloud);
-  TriangleMesh mesh;
-  mesh.vertices.resize(3, static_cast<Eigen::Index>(cloud.size()));
-  for (size_t v = 0; v < cloud.size(); ++v) {
-    mesh.vertices.col(static_cast<Eigen::Index>(v)) = cloud[v].getVector3fMap().cast<double>();
-    if (!mesh.vertices.col(static_cast<Eigen::Index>(v)).allFinite())
-      throw IoError("mesh file '" + path + "': vertex " + std::to_string(v) + " is not finite");
-  }
-  try {
-    mesh.triangles = fanTriangulate(polygons.polygons, mesh.numVertices(),
-                                    [](const pcl::Vertices& polygon) -> const auto& { return polygon.vertices; });
-  } catch (const InvalidInputError& e) {
-    throw IoError("mesh file '" + path + "': " + e.what());
-  }
-  if (mesh.numTriangles() == 0) throw IoError("mesh file '" + path + "' has no triangles");
-  return mesh;
 }
 
 pcl::PolygonMesh toPolygonMesh(const TriangleMesh& mesh) {
@@ -67,12 +48,9 @@ pcl::PolygonMesh toPolygonMesh(const TriangleMesh& mesh) {
 
 TriangleMesh readTriangleMesh(const std::string& path) {
   const Format format = formatOf(path);
-  if (!std::ifstream(path).good()) throw IoError("mesh file '" + path + "' cannot be opened");
-  pcl::PolygonMesh polygons;
-  const int status =
-      format == Format::Obj ? pcl::io::loadOBJFile(path, polygons) : pcl::io::loadPLYFile(path, polygons);
-  if (status < 0) throw IoError("mesh file '" + path + "' could not be parsed");
-  return fromPolygonMesh(polygons, path);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError("mesh file '" + path + "' cannot be opened");
+  return format == Format::Obj ? readObj(in, path) : readPly(in, path);
 }
 
 void writeTriangleMesh(const std::string& path, const TriangleMesh& mesh) {
