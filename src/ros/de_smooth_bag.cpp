@@ -66,15 +66,27 @@ int main(int argc, char** argv) {
     options.tau = tau;
     options.rho = restoring;
     options.closed = closed;
-    options.reduced = subspace > 0;
-    if (options.reduced) options.subspaceDimension = subspace;
+    options.reduction.reduced = subspace > 0;
+    if (options.reduction.reduced) options.reduction.subspaceDimension = subspace;
     options.parallelShapes = true;  // DiscreteShells is thread-safe; the Jacobi update makes shapes independent
     ss::SmoothingFlow flow(energy, std::move(sequence), options);
     std::fprintf(stderr, "de_smooth_bag: path energy %.6g\n", flow.pathEnergy());
+    int accepted = 0, unconverged = 0;
     for (int k = 0; k < iterations; ++k) {
       const ss::FlowStep step = flow.step();
-      std::fprintf(stderr, "de_smooth_bag: step %d/%d %spath energy %.6g (tau %.3g)\n", k + 1, iterations,
-                   flow.ghostVertices() > 0 ? "ghost-mesh " : "", step.pathEnergy, step.tau);
+      if (step.stalled) {  // no tau lowers eq. 4: later steps would stall the same way
+        std::fprintf(stderr, "de_smooth_bag: step %d/%d stalled (no tau lowers the path energy), the run ends here\n", k + 1, iterations);
+        break;
+      }
+      ++accepted;
+      unconverged += step.unconvergedAverages;
+      std::fprintf(stderr, "de_smooth_bag: step %d/%d %spath energy %.6g (tau %.3g)%s\n", k + 1, iterations,
+                   flow.ghostVertices() > 0 ? "ghost-mesh " : "", step.pathEnergy, step.tau,
+                   step.unconvergedAverages > 0 ? ", some averages not converged" : "");
+    }
+    if (accepted == 0 && iterations > 0) {
+      std::fprintf(stderr, "de_smooth_bag: no step was accepted; no bag written\n");
+      return 3;
     }
     rosbag::Bag out(output, rosbag::bagmode::Write);
     size_t next = 0;
@@ -88,7 +100,8 @@ int main(int argc, char** argv) {
         out.write(m.getTopic(), m.getTime(), m, m.getConnectionHeader());
       }
     }
-    std::printf("{\"states\": %zu, \"path_energy_final\": %.9g, \"seconds\": %.3f}\n", clouds.size(), flow.pathEnergy(),
+    std::printf("{\"states\": %zu, \"accepted_steps\": %d, \"unconverged_averages\": %d, \"path_energy_final\": %.9g, "
+                "\"seconds\": %.3f}\n", clouds.size(), accepted, unconverged, flow.pathEnergy(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     return 0;
   } catch (const de::Error& e) {

@@ -302,6 +302,11 @@ void DiscreteShells::setThreadCount(int threads) {
   threads_ = threads;
 }
 
+void DiscreteShells::checkShape(const Eigen::VectorXd& shape) const {
+  DeformationEnergy::checkShape(shape);
+  checkTriangles(shape, "given");
+}
+
 void DiscreteShells::checkTriangles(const Eigen::VectorXd& shape, const char* name) const {
   for (Eigen::Index t = 0; t < triangles_.cols(); ++t) {
     const Eigen::Vector3d x0 = shape.segment<3>(3 * triangles_(0, t));

@@ -3,9 +3,11 @@
 //   de_smooth --input F0.obj F1.obj ... --output DIR --iterations K --tau T --restoring R [--closed]
 //             [--subspace d | --full] [--ghost N] [--json]
 // Writes the smoothed shapes under the same file names in DIR (OBJ or PLY, by extension) and prints one
-// JSON object {"path_energy": [input, after step 1, ...], "seconds": s, ...}; progress goes to stderr.
-// path_energy is eq. 4 on the full mesh; with a ghost mesh, ghost_path_energy is the one the step control
-// lowers.
+// JSON object {"path_energy": [input, after step 1, ...], "seconds": s, "status": ..., ...}; progress goes to
+// stderr. path_energy is eq. 4 on the full mesh; with a ghost mesh, ghost_path_energy is the one the step
+// control lowers. A step that no tau lets lower eq. 4 ends the run (stalled); a step whose averages did not
+// all converge is kept and reported (unconverged_averages, unconverged_gradient_norm). Exit status 0 if a
+// step was accepted (or none was asked for), 3 if none was (the input is written unchanged), 1 on errors.
 #include <chrono>
 #include <filesystem>
 #include <iostream>
@@ -58,7 +60,8 @@ int main(int argc, char** argv) {
     options.rho = restoring;
     options.restoredShapes = restoredShapes;
     options.closed = closed;
-    common.applyTo(options);
+    common.applyTo(options.reduction);
+    options.symmetricAverage = common.symmetric;
     options.weights = proportional ? ss::FlowWeights::ProportionPreserving : ss::FlowWeights::Fixed;
     options.parallelShapes = true;  // DiscreteShells is thread-safe; the Jacobi update makes shapes independent
     ss::SmoothingFlow flow(energy, sequence, options);
@@ -68,15 +71,29 @@ int main(int argc, char** argv) {
     nlohmann::json taus = nlohmann::json::array(), solverIterations = nlohmann::json::array();
     std::cerr << "de_smooth: " << inputs.size() << " shapes, " << sequence.numVertices() << " vertices, path energy "
               << flow.pathEnergy() << "\n";
-    for (int k = 0; k < iterations; ++k) {
+    nlohmann::json unconverged = nlohmann::json::array(), unconvergedNorms = nlohmann::json::array();
+    int accepted = 0;
+    bool allConverged = true, stalled = false;
+    for (int k = 0; k < iterations && !stalled; ++k) {
       const ss::FlowStep step = flow.step();
+      stalled = step.stalled;
+      if (stalled) {
+        std::cerr << "  step " << k + 1 << ": stalled (no tau lowers the path energy), the run ends here\n";
+        break;
+      }
+      ++accepted;
+      allConverged = allConverged && step.converged();
       energies.push_back(flow.ghostVertices() > 0 ? flow.pathEnergy() : step.pathEnergy);
       if (flow.ghostVertices() > 0) ghostEnergies.push_back(step.pathEnergy);
       taus.push_back(step.tau);
       solverIterations.push_back(step.solverIterations);
-      std::cerr << "  step " << k + 1 << ": path energy " << energies.back().get<double>() << " tau " << step.tau
-                << (step.stalled ? " (stalled: no tau decreases the path energy)" : "") << "\n";
-      if (step.stalled) break;
+      unconverged.push_back(step.unconvergedAverages);
+      unconvergedNorms.push_back(step.unconvergedGradientNorm);
+      std::cerr << "  step " << k + 1 << ": path energy " << energies.back().get<double>() << " tau " << step.tau;
+      if (step.unconvergedAverages > 0)
+        std::cerr << " (" << step.unconvergedAverages << " averages not converged, gradient norm up to "
+                  << step.unconvergedGradientNorm << ")";
+      std::cerr << "\n";
     }
     fs::create_directories(output);
     for (size_t i = 0; i < inputs.size(); ++i) {
@@ -91,11 +108,20 @@ int main(int argc, char** argv) {
       out["ghost_vertices"] = flow.ghostVertices();
       out["tau"] = taus;
       out["solver_iterations"] = solverIterations;
+      out["unconverged_averages"] = unconverged;
+      out["unconverged_gradient_norm"] = unconvergedNorms;
+      out["accepted_steps"] = accepted;
+      out["stalled"] = stalled;
+      out["status"] = accepted == 0 && iterations > 0 ? "nothing_accepted" : allConverged ? "converged" : "not_converged";
       out["seconds"] = seconds;
       out["shapes"] = inputs.size();
       out["vertices"] = sequence.numVertices();
       out["mode"] = common.full ? "full" : "reduced";
       std::cout << out.dump() << std::endl;
+    }
+    if (accepted == 0 && iterations > 0) {
+      std::cerr << "de_smooth: no step was accepted (no tau lowers the path energy); the input was written unchanged\n";
+      return 3;
     }
     return 0;
   } catch (const de::Error& e) {

@@ -1,11 +1,11 @@
 #pragma once
 // Command-line options shared by the shape-space tools (de_smooth, de_geodesic): reduced or full space,
-// subspace size, ghost mesh, averaging and the Discrete Shells variant, applied to FlowOptions.
+// subspace size, ghost mesh, averaging and the Discrete Shells variant.
 #include <CLI/CLI.hpp>
 #include <string>
 
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
-#include "deformation_enrichment/shape_space/smoothing_flow.hpp"
+#include "deformation_enrichment/shape_space/evaluation_space.hpp"
 
 namespace deformation_enrichment::tools {
 
@@ -30,10 +30,9 @@ struct ShapeSpaceCli {
                                    : shape_space::DiscreteShellsParameters::hyperelastic();
   }
 
-  void applyTo(shape_space::FlowOptions& options) const {
+  void applyTo(shape_space::ReductionOptions& options) const {
     options.reduced = !full;
     options.subspaceDimension = subspace;
-    options.symmetricAverage = symmetric;
     options.useGhostMesh = ghost > 0;
     if (ghost > 0) options.ghostMesh.targetVertices = ghost;
   }

@@ -59,10 +59,10 @@ void geodesicCase(benchmark::State& state, Mode mode) {
   ss::DiscreteShells energy(ends.triangles, ends.numVertices(), ss::DiscreteShellsParameters::hyperelastic());
   ss::GeodesicOptions options;
   options.shapes = envInt("DE_BENCH_GEODESIC_SHAPES", 8);
-  options.flow.tau = 1.0;
-  options.flow.reduced = mode != Mode::Full;
-  options.flow.useGhostMesh = mode == Mode::ReducedGhost;
-  options.flow.subspaceDimension = 16;
+  options.tau = 1.0;
+  options.reduction.reduced = mode != Mode::Full;
+  options.reduction.useGhostMesh = mode == Mode::ReducedGhost;
+  options.reduction.subspaceDimension = 16;
   options.solver = mode == Mode::FlowReduced ? ss::GeodesicSolver::Flow : ss::GeodesicSolver::PathEnergy;
   if (mode == Mode::FlowReduced) options.enrichmentRounds = 4;  // the flow's former default
   // The full path is the reference: Newton converges quadratically, so it is cheap to solve it well past
@@ -146,9 +146,9 @@ void smoothingStep(benchmark::State& state, bool ghost, double relativeTolerance
   ss::DiscreteShells energy(seq.triangles, seq.numVertices(), ss::DiscreteShellsParameters::hyperelastic());
   ss::FlowOptions options;
   options.tau = 0.5;
-  options.reduced = true;
-  options.subspaceDimension = 16;
-  options.useGhostMesh = ghost;
+  options.reduction.reduced = true;
+  options.reduction.subspaceDimension = 16;
+  options.reduction.useGhostMesh = ghost;
   options.parallelShapes = true;  // Jacobi update: the shapes of one step are independent
   if (relativeTolerance > 0.0) options.reducedSolver.relativeTolerance = relativeTolerance;
   ss::SmoothingFlow flow(energy, seq, options);  // preprocess (ghost mesh, subspace, preconditioners): not timed

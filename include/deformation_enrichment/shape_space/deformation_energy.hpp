@@ -37,6 +37,10 @@ public:
   /// Number of vertices V of the fixed topology; every shape argument has size 3V.
   virtual Eigen::Index numVertices() const = 0;
 
+  /// Throws InvalidInputError naming the problem if `shape` cannot be an argument: wrong size or a
+  /// non-finite entry (the default), plus the implementation's own conditions (e.g. degenerate triangles).
+  virtual void checkShape(const Eigen::VectorXd& shape) const;
+
   /// W[reference, deformed].
   virtual double value(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const = 0;
 

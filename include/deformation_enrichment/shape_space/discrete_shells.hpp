@@ -82,6 +82,8 @@ public:
                  const DiscreteShellsParameters& parameters = DiscreteShellsParameters::hyperelastic());
 
   Eigen::Index numVertices() const override { return numVertices_; }
+  /// Size, finite entries and no degenerate triangle (see the header comment).
+  void checkShape(const Eigen::VectorXd& shape) const override;
   double value(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const override;
   Eigen::VectorXd gradientDeformed(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const override;
   Eigen::VectorXd gradientReference(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const override;

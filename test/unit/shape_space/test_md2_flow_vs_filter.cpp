@@ -87,8 +87,8 @@ TEST(Md2FlowVsFilter, FlowDistortsShapesLessAtEqualTemporalSmoothness) {
   ss::FlowOptions opt;
   opt.tau = 0.5;
   // Reduced mode, as [Brandt16] runs it.
-  opt.reduced = true;
-  opt.subspaceDimension = 11;
+  opt.reduction.reduced = true;
+  opt.reduction.subspaceDimension = 11;
   ss::SmoothingFlow flow(energy, input, opt);
   for (int k = 0; k < 4; ++k) ASSERT_FALSE(flow.step().stalled);
   const Shapes& smoothed = flow.current().shapes;

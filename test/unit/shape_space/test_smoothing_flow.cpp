@@ -7,6 +7,7 @@
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
+#include "deformation_enrichment/shape_space/path_energy.hpp"
 #include "deformation_enrichment/shape_space/smoothing_flow.hpp"
 #include "flow_test_sequences.hpp"
 
@@ -40,8 +41,8 @@ TEST(SmoothingFlow, PathEnergyDecreasesEveryStep) {
     opt.tau = 0.8;
     if (variant == 1) opt.weights = ss::FlowWeights::ProportionPreserving;
     if (variant == 2) {
-      opt.reduced = true;
-      opt.subspaceDimension = 6;
+      opt.reduction.reduced = true;
+      opt.reduction.subspaceDimension = 6;
     }
     ss::SmoothingFlow flow(s.energy, s.sequence(7, 0.02), opt);
     double previous = flow.pathEnergy();
