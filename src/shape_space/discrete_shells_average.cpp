@@ -8,7 +8,11 @@
 //    k a (l - l_star)^2 + k sum_i w_i (l_bar_i - l_star)^2 / l_bar_i with a = sum_i w_i / l_bar_i and
 //    l_star = (sum_i w_i) / a (no cancellation: for one example this is the original form);
 //  - bending: sum_i w_i omega_i (theta - theta_bar_i)^2 = Omega (theta - theta_star)^2 + const with
-//    Omega = sum_i w_i omega_i and theta_star the omega-weighted mean of theta_bar_i.
+//    Omega = sum_i w_i omega_i and theta_star the omega-weighted mean of theta_bar_i. The energy takes each
+//    difference modulo 2 pi, so this holds only where theta (shifted by 2 pi k to lie nearest theta_star)
+//    is within pi of every theta_bar_i; elsewhere (references whose angles spread widely, as on noisy
+//    hinges: measured 117 of 1000 hinges of a sydney.md2 clip with 0.4 % noise, where the aggregated value
+//    was 24 % off) the hinge sums its terms one by one.
 // The evaluation then costs one deformed-only pass instead of one full pass per example.
 #include <cmath>
 #include <string>
@@ -54,6 +58,7 @@ public:
     if (!hyperelastic_) edges_.assign(shells.edges().size(), {});
     hinges_.assign(shells.hinges().size(), {});
     std::vector<double> thetaFirst(hinges_.size(), 0.0), omegaTheta(hinges_.size(), 0.0), omegaTheta2(hinges_.size(), 0.0);
+    std::vector<double> thetaMin(hinges_.size(), 0.0), thetaMax(hinges_.size(), 0.0);
     const double hingeFactor = hyperelastic_ ? 1.0 : 3.0;
     bool first = true;
     for (size_t i = 0; i < references.size(); ++i) {
@@ -103,16 +108,23 @@ public:
           hinges_[h].omega += omega;
           omegaTheta[h] += omega * theta;
           omegaTheta2[h] += omega * (theta - thetaFirst[h]) * (theta - thetaFirst[h]);  // shifted: no cancellation
+          thetaMin[h] = first ? theta : std::min(thetaMin[h], theta);
+          thetaMax[h] = first ? theta : std::max(thetaMax[h], theta);
+          hingeTerms_.push_back({omega, theta});  // reference-major: term (i, h) at i * hinges + h
         }
       }
       first = false;
+      ++references_;
     }
     if (!hyperelastic_) classicTargets(weights, references);
     for (size_t h = 0; h < hinges_.size(); ++h) {
-      if (!(hinges_[h].omega > 0.0)) continue;
-      hinges_[h].theta = omegaTheta[h] / hinges_[h].omega;
-      const double shift = hinges_[h].theta - thetaFirst[h];
-      constant_ += omegaTheta2[h] - hinges_[h].omega * shift * shift;  // sum_i omega_i (theta_bar_i - theta_star)^2
+      Hinge& hinge = hinges_[h];
+      if (!(hinge.omega > 0.0)) continue;
+      hinge.theta = omegaTheta[h] / hinge.omega;
+      const double shift = hinge.theta - thetaFirst[h];
+      hinge.constant = omegaTheta2[h] - hinge.omega * shift * shift;  // sum_i omega_i (theta_bar_i - theta_star)^2
+      hinge.lowest = thetaMax[h] - M_PI - hinge.theta;
+      hinge.highest = thetaMin[h] + M_PI - hinge.theta;
     }
   }
 
@@ -173,14 +185,23 @@ public:
       if (!(hinge.omega > 0.0)) continue;
       const Eigen::Vector4i v = shells_.hinges()[h];
       const auto x = gatherCorners<4>(y, v);
-      if (!gradient) {
-        const double d = std::remainder(dihedralAngle(x[0], x[1], x[2], x[3]) - hinge.theta, 2.0 * M_PI);
-        value += hinge.omega * d * d;
-        continue;
+      const double theta = gradient ? dihedralAngleAndGradient(x[0], x[1], x[2], x[3], dTheta)
+                                    : dihedralAngle(x[0], x[1], x[2], x[3]);
+      double slope = 0.0;  // d value / d theta
+      const double d = std::remainder(theta - hinge.theta, 2.0 * M_PI);
+      if (d >= hinge.lowest && d <= hinge.highest) {
+        value += hinge.omega * d * d + hinge.constant;
+        slope = 2.0 * hinge.omega * d;
+      } else {  // outside the aggregated form's range (header): the terms one by one
+        for (size_t i = 0; i < references_; ++i) {
+          const HingeTerm& term = hingeTerms_[i * hinges_.size() + h];
+          const double di = std::remainder(theta - term.theta, 2.0 * M_PI);
+          value += term.omega * di * di;
+          slope += 2.0 * term.omega * di;
+        }
       }
-      const double d = std::remainder(dihedralAngleAndGradient(x[0], x[1], x[2], x[3], dTheta) - hinge.theta, 2.0 * M_PI);
-      value += hinge.omega * d * d;
-      for (int a = 0; a < 4; ++a) gradient->segment<3>(3 * v[a]) += 2.0 * hinge.omega * d * dTheta.segment<3>(3 * a);
+      if (gradient)
+        for (int a = 0; a < 4; ++a) gradient->segment<3>(3 * v[a]) += slope * dTheta.segment<3>(3 * a);
     }
     return value;
   }
@@ -229,6 +250,11 @@ private:
   };
   struct Hinge {
     double omega = 0.0, theta = 0.0;  // bendingWeight-scaled Omega and theta_star
+    double constant = 0.0;            // sum_i omega_i (theta_bar_i - theta_star)^2
+    double lowest = 0.0, highest = 0.0;  // the range of theta - theta_star (mod 2 pi) where that form holds
+  };
+  struct HingeTerm {
+    double omega, theta;  // one reference's weight and (unwrapped) angle
   };
 
   const DiscreteShells& shells_;
@@ -236,6 +262,8 @@ private:
   std::vector<Face> faces_;
   std::vector<Edge> edges_;
   std::vector<Hinge> hinges_;
+  std::vector<HingeTerm> hingeTerms_;
+  size_t references_ = 0;  // with nonzero weight (and so terms in hingeTerms_ if bending is on)
   double constant_ = 0.0;
 };
 

@@ -2,7 +2,10 @@
 // and gradient), its gradient matches finite differences, and bad input is rejected.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/shape_space/dihedral_angle.hpp"
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
 #include "shell_test_meshes.hpp"
 
@@ -40,6 +43,45 @@ TEST(WeightedReferences, EqualTheSumOfTermsForBothMembranesWithGradient) {
       const double fd = (aggregated->evaluate(plus, nullptr) - aggregated->evaluate(minus, nullptr)) / (2 * h);
       EXPECT_NEAR(gradient[i], fd, 1e-6 * std::max(1.0, std::abs(fd)));
     }
+  }
+}
+
+// Noisy hinges (as on real captures): the references' dihedral angles spread by more than pi/2, where the
+// aggregated form Omega (theta - theta_star)^2 alone would be wrong (the energy wraps each difference).
+TEST(WeightedReferences, EqualTheSumOfTermsWhereReferenceAnglesSpreadWidely) {
+  const FlatMesh mesh = bumpyGrid(6, 4);
+  const std::vector<Eigen::VectorXd> refs{perturbed(mesh.vertices, 0.12, 11), perturbed(mesh.vertices, 0.12, 12),
+                                          perturbed(mesh.vertices, 0.12, 13)};
+  const std::vector<double> weights{0.3, 0.45, 0.25};
+  const std::vector<const Eigen::VectorXd*> pointers{&refs[0], &refs[1], &refs[2]};
+  const ss::DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, ss::DiscreteShellsParameters::classic());
+  int spread = 0;
+  for (const Eigen::Vector4i& h : energy.hinges()) {
+    double lo = 10.0, hi = -10.0;
+    for (const auto& r : refs) {
+      const double t = std::remainder(ss::dihedralAngle(r.segment<3>(3 * h[0]), r.segment<3>(3 * h[1]), r.segment<3>(3 * h[2]),
+                                                        r.segment<3>(3 * h[3])) -
+                                          ss::dihedralAngle(refs[0].segment<3>(3 * h[0]), refs[0].segment<3>(3 * h[1]),
+                                                            refs[0].segment<3>(3 * h[2]), refs[0].segment<3>(3 * h[3])),
+                                      2.0 * M_PI);
+      lo = std::min(lo, t);
+      hi = std::max(hi, t);
+    }
+    spread += hi - lo > 0.5 * M_PI ? 1 : 0;
+  }
+  ASSERT_GT(spread, 0) << "the references do not exercise widely spread hinges";
+  const auto aggregated = energy.weightedReferences(weights, pointers);
+  for (unsigned seed : {21u, 22u, 23u, 24u}) {
+    const Eigen::VectorXd y = perturbed(mesh.vertices, 0.12, seed);
+    double sum = 0.0;
+    Eigen::VectorXd gradientSum = Eigen::VectorXd::Zero(y.size());
+    for (size_t i = 0; i < refs.size(); ++i) {
+      sum += weights[i] * energy.value(refs[i], y);
+      gradientSum += weights[i] * energy.gradientDeformed(refs[i], y);
+    }
+    Eigen::VectorXd gradient;
+    EXPECT_NEAR(aggregated->evaluate(y, &gradient), sum, 1e-11 * sum) << "seed " << seed;
+    EXPECT_LT((gradient - gradientSum).norm(), 1e-10 * gradientSum.norm()) << "seed " << seed;
   }
 }
 
