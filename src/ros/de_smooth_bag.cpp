@@ -61,7 +61,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "de_smooth_bag: %zu states of %ld vertices from %s\n", clouds.size(),
                  static_cast<long>(sequence.numVertices()), topic.c_str());
     ss::validateSequence(sequence, 3);
-    const ss::DiscreteShells energy(sequence.triangles, sequence.numVertices());
+    // GOAST's shell energy, bending scaled to the mesh size (as de_smooth)
+    const ss::DiscreteShells energy(sequence.triangles, sequence.numVertices(),
+                                    ss::DiscreteShellsParameters::hyperelasticFor(sequence.shapes.front()));
     ss::FlowOptions options;
     options.tau = tau;
     options.rho = restoring;

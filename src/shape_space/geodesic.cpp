@@ -39,7 +39,8 @@ GeodesicResult flowGeodesic(const DeformationEnergy& energy, const Eigen::Matrix
   flowOptions.reduction = options.reduction;
   flowOptions.symmetricAverage = options.average.symmetric;
   flowOptions.full = options.average;
-  flowOptions.acceptResidualDecrease = true;  // eq. 10: converge to its own fixed point (see FlowOptions)
+  flowOptions.acceptResidualDecrease = true;
+  flowOptions.flowDirectionShapes = 20;  // [Brandt16 §6]: coarse curves get their flow tangents  // eq. 10: converge to its own fixed point (see FlowOptions)
 
   GeodesicResult result;
   std::vector<Eigen::VectorXd> shapes{a, b};

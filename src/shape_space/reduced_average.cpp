@@ -1,7 +1,6 @@
 #include "deformation_enrichment/shape_space/reduced_average.hpp"
 
 #include <cmath>
-#include <limits>
 #include <memory>
 
 #include <Eigen/Cholesky>
@@ -41,25 +40,16 @@ AverageResult reducedElasticAverage(const DeformationEnergy& energy, const std::
                                     const Eigen::VectorXd& initial, const ReducedAverageOptions& options) {
   if (initial.size() != space.origin.size()) throw InvalidInputError("reduced average: initial shape has the wrong size");
   const Eigen::MatrixXd& basis = *space.basis;
-  // eq. 10 with an energy that aggregates its references: one pass per evaluation instead of one per example.
-  const std::unique_ptr<WeightedReferenceEnergy> aggregated =
-      options.symmetric ? nullptr : energy.weightedReferences(weights, examples);
+  const AverageObjective average(energy, weights, examples, options.symmetric);
   NewtonObjective<Eigen::MatrixXd> objective;
   objective.evaluate = [&](const Eigen::VectorXd& q, Eigen::VectorXd* gradient) {
     Eigen::VectorXd gradY;
-    Eigen::VectorXd* const wanted = gradient ? &gradY : nullptr;
-    double f;
-    try {
-      f = aggregated ? aggregated->evaluate(space.lift(q), wanted)
-                     : averageObjective(energy, weights, examples, space.lift(q), options.symmetric, wanted);
-    } catch (const InvalidInputError&) {  // a trial step collapsed a triangle: too long
-      return std::numeric_limits<double>::infinity();
-    }
-    if (gradient) *gradient = basis.transpose() * gradY;
+    const double f = average.value(space.lift(q), gradient ? &gradY : nullptr);
+    if (gradient && std::isfinite(f)) *gradient = basis.transpose() * gradY;
     return f;
   };
   objective.hessian = [&](const Eigen::VectorXd& q) {  // the damped Newton fallback: B^T H B
-    const Eigen::MatrixXd h = basis.transpose() * (averageHessian(energy, weights, examples, space.lift(q), options.symmetric) * basis);
+    const Eigen::MatrixXd h = basis.transpose() * (average.hessian(space.lift(q)) * basis);
     return Eigen::MatrixXd(0.5 * (h + h.transpose()));
   };
   Eigen::VectorXd q = space.coordinates(initial);

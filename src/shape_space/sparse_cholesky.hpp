@@ -1,8 +1,11 @@
 #pragma once
 // Sparse Cholesky factorisation of H + shift I for the shape-space solvers (private to the module): CHOLMOD's
-// supernodal LLT when available (it reports indefinite matrices), else Eigen's SimplicialLLT. The symbolic
-// analysis (fill-reducing ordering, supernodes) runs once while the sparsity pattern stays: every Hessian of
-// one mesh shares the energy's pattern, so only the numeric factorisation is repeated.
+// LLT when available (it reports indefinite matrices), else Eigen's SimplicialLLT. CHOLMOD chooses between
+// its simplicial and supernodal factorisations by the flop count (CHOLMOD_AUTO): supernodal everywhere
+// spent 75 % of a flow step on a 342-vertex mesh in OpenMP spin-waits inside cholmod_super_numeric, and
+// simplicial everywhere made the 37k-unknown finger path 5x slower. The symbolic analysis (fill-reducing
+// ordering) runs once while the sparsity pattern stays: every Hessian of one mesh shares the energy's
+// pattern, so only the numeric factorisation is repeated.
 #include <Eigen/SparseCore>
 #ifdef DE_HAVE_CHOLMOD
 #include <Eigen/CholmodSupport>
@@ -15,7 +18,12 @@ namespace deformation_enrichment::shape_space::detail {
 class SparseCholesky {
 public:
 #ifdef DE_HAVE_CHOLMOD
-  SparseCholesky() { solver_.cholmod().print = 0; }  // indefinite trials are expected: no warnings
+  SparseCholesky() {
+    solver_.cholmod().print = 0;  // indefinite trials are expected: no warnings
+    solver_.cholmod().supernodal = CHOLMOD_AUTO;
+    solver_.cholmod().final_asis = 0;  // LL' (which fails for indefinite matrices), not LDL'
+    solver_.cholmod().final_ll = 1;
+  }
 #endif
 
   /// Factorises h + shift I (the lower triangle of h is read); false if that is not positive definite.
@@ -39,7 +47,7 @@ public:
 
 private:
 #ifdef DE_HAVE_CHOLMOD
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver_;
+  Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower> solver_;
 #else
   Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver_;
 #endif

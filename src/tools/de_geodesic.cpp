@@ -46,7 +46,7 @@ int main(int argc, char** argv) {
     const de::mesh::TriangleMesh a = de::mesh::readTriangleMesh(pathA);
     const de::mesh::TriangleMesh b = de::mesh::readTriangleMesh(pathB);
     const ss::ShapeSequence ends = ss::makeSequence({a, b}, 2);
-    const ss::DiscreteShells energy(ends.triangles, ends.numVertices(), common.parameters());
+    const ss::DiscreteShells energy(ends.triangles, ends.numVertices(), common.parameters(ends.shapes.front()));
     ss::GeodesicOptions options;
     options.shapes = shapes;
     options.insertPerSegment = insert;

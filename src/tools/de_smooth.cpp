@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
     std::vector<de::mesh::TriangleMesh> meshes;
     for (const std::string& path : inputs) meshes.push_back(de::mesh::readTriangleMesh(path));
     const ss::ShapeSequence sequence = ss::makeSequence(meshes);
-    const ss::DiscreteShells energy(sequence.triangles, sequence.numVertices(), common.parameters());
+    const ss::DiscreteShells energy(sequence.triangles, sequence.numVertices(), common.parameters(sequence.shapes.front()));
     ss::FlowOptions options;
     options.tau = tau;
     options.rho = restoring;

@@ -28,6 +28,8 @@ public:
   /// The value; with gradient, its derivative in y. Throws InvalidInputError for a wrongly sized,
   /// non-finite or degenerate y.
   virtual double evaluate(const Eigen::VectorXd& deformed, Eigen::VectorXd* gradient) const = 0;
+  /// The Hessian in y (both triangles stored); same errors.
+  virtual Eigen::SparseMatrix<double> hessian(const Eigen::VectorXd& deformed) const = 0;
 };
 
 class DeformationEnergy {

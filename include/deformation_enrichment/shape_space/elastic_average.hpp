@@ -4,6 +4,7 @@
 // a sparse Cholesky factorisation (CHOLMOD when available); the damping is isotropic, so the iteration
 // commutes with rigid motions and never moves along the energy's rigid null space (the gradient of a
 // rigid-invariant energy is orthogonal to it): results follow rigid motions of the inputs exactly.
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
@@ -33,6 +34,28 @@ struct AverageResult {
   /// Reduced solver only: q with shape = origin + basis q (lets a ghost-mesh solve be lifted to the fine mesh).
   Eigen::VectorXd reducedCoordinates;
   bool converged() const { return status != MinimiserStatus::NotConverged; }
+};
+
+/// The objective of eq. 10 / eq. 1 prepared once for the solvers: eq. 10 through the energy's aggregated
+/// references (DeformationEnergy::weightedReferences: one deformed-only pass per value, gradient or
+/// Hessian) when it has them, else term by term. The energy and the examples must outlive it.
+class AverageObjective {
+public:
+  /// Throws InvalidInputError for mismatched sizes, negative/non-finite weights, all-zero weights or
+  /// non-finite examples.
+  AverageObjective(const DeformationEnergy& energy, std::vector<double> weights,
+                   std::vector<const Eigen::VectorXd*> examples, bool symmetric);
+  /// The value and, with gradient, its gradient at y; +infinity if y is not admissible (a collapsed
+  /// triangle), so a solver treats such a trial as too long.
+  double value(const Eigen::VectorXd& y, Eigen::VectorXd* gradient) const;
+  Eigen::SparseMatrix<double> hessian(const Eigen::VectorXd& y) const;
+
+private:
+  const DeformationEnergy& energy_;
+  std::vector<double> weights_;
+  std::vector<const Eigen::VectorXd*> examples_;
+  bool symmetric_;
+  std::unique_ptr<WeightedReferenceEnergy> aggregated_;
 };
 
 /// Weighted elastic average of `examples` (flat 3V vectors), Newton started at `initial`.

@@ -10,7 +10,9 @@
 // converge (its last iterate is still a descent point of its objective) also halves tau; if no halving gives
 // a step whose averages all converge, the first eq. 4-lowering trial is accepted and its unconverged
 // averages are reported. If no tau lowers eq. 4 the step is stalled and the sequence stays: at a geodesic,
-// or (with a restoring force) where smoothing and restoring balance.
+// or (with a restoring force) where smoothing and restoring balance. The energy does not see rigid motions
+// of a shape's connected pieces, so after every step each piece is moved rigidly (Kabsch) onto its pose in
+// the input shape.
 #include <memory>
 #include <vector>
 
@@ -41,7 +43,12 @@ struct FlowOptions {
   bool acceptResidualDecrease = false;
   /// Reduced mode, subspace size and ghost mesh ([Brandt16 §6]); full-space Newton by default.
   ReductionOptions reduction;
-  int flowDirectionShapes = 20;      ///< below this many shapes, flow tangents enrich the subspace (paper: 20)
+  /// Below this many shapes, the flow tangents (eq. 9) of all shapes enrich the shared subspace. [Brandt16 §6]
+  /// does this below 20 frames of a coarse curve (geodesic() does); on noisy captures the tangents are
+  /// dominated by the floppy bending modes of the noise and mix them into every shape (measured on a
+  /// 19-frame sydney.md2 clip with 0.2 % noise, 10 steps: vertex trajectories 1.06x rougher with them,
+  /// 0.24x without), so smoothing does not add them by default.
+  int flowDirectionShapes = 0;
   /// Solve the shapes' averages in parallel (OpenMP over shapes; meshes of >= 1000 vertices only). Needs
   /// an energy that is safe to call from several threads (DiscreteShells is). Off: the energy parallelises
   /// (but eq. 10 averages with aggregated references, see DeformationEnergy::weightedReferences, run serially).
@@ -103,6 +110,8 @@ public:
 private:
   struct Trial;
   Trial trialStep(double tau) const;
+  /// Makes `shapes` (with eq. 4 `controlled`) the current ones, each piece moved rigidly onto its input pose.
+  void accept(std::vector<Eigen::VectorXd> shapes, double controlled);
   AverageResult averageAt(int i, double tau, const std::vector<Eigen::VectorXd>& x,
                           const std::vector<Eigen::VectorXd>& input) const;
   double controlledPathEnergy(const std::vector<Eigen::VectorXd>& shapes) const;
@@ -114,6 +123,7 @@ private:
   FlowOptions options_;
   EvaluationSpace space_;
   std::vector<char> restored_;
+  std::vector<std::vector<int>> pieces_;  ///< connected components of the mesh (each keeps its input pose)
   std::vector<ReducedSpace> spaces_;  ///< per shape (reduced mode), in the evaluation space
   std::shared_ptr<const Eigen::MatrixXd> fineBasis_;  ///< reduced mode: the shared basis on the fine mesh
   std::vector<Eigen::VectorXd> fineOrigins_;          ///< reduced mode: shape i = fineOrigins_[i] + B q

@@ -1,5 +1,5 @@
-// DiscreteShells::weightedReferences: the aggregated eq. 10 objective equals the sum of the terms (value
-// and gradient), its gradient matches finite differences, and bad input is rejected.
+// DiscreteShells::weightedReferences: the aggregated eq. 10 objective equals the sum of the terms (value,
+// gradient and Hessian), its gradient matches finite differences, and bad input is rejected.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -85,6 +85,25 @@ TEST(WeightedReferences, EqualTheSumOfTermsWhereReferenceAnglesSpreadWidely) {
   }
 }
 
+TEST(WeightedReferences, HessianEqualsTheSumOfTheTermsHessians) {
+  const FlatMesh mesh = bumpyGrid(6, 4);
+  // Mild and wide-spread reference angles: both branches of the bending term.
+  for (double amplitude : {0.03, 0.12}) {
+    const std::vector<Eigen::VectorXd> refs{perturbed(mesh.vertices, amplitude, 1), perturbed(mesh.vertices, amplitude, 2),
+                                            perturbed(mesh.vertices, amplitude, 3)};
+    const std::vector<double> weights{0.25, 0.15, 0.6};
+    const std::vector<const Eigen::VectorXd*> pointers{&refs[0], &refs[1], &refs[2]};
+    const Eigen::VectorXd y = perturbed(mesh.vertices, amplitude, 9);
+    for (const auto& parameters : {ss::DiscreteShellsParameters::classic(), ss::DiscreteShellsParameters::hyperelastic(0.05)}) {
+      const ss::DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, parameters);
+      Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(y.size(), y.size());
+      for (size_t i = 0; i < refs.size(); ++i) sum += weights[i] * Eigen::MatrixXd(energy.hessianDeformed(refs[i], y));
+      const Eigen::MatrixXd aggregated(energy.weightedReferences(weights, pointers)->hessian(y));
+      EXPECT_LT((aggregated - sum).norm(), 1e-9 * sum.norm()) << "amplitude " << amplitude;
+    }
+  }
+}
+
 TEST(WeightedReferences, BadInputGivesClearErrors) {
   const FlatMesh mesh = bumpyGrid(4, 4);
   const ss::DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3);
@@ -103,4 +122,6 @@ TEST(WeightedReferences, BadInputGivesClearErrors) {
   EXPECT_THROW(aggregated->evaluate(flat, nullptr), de::InvalidInputError);
   EXPECT_THROW(aggregated->evaluate(nan, nullptr), de::InvalidInputError);
   EXPECT_THROW(aggregated->evaluate(shorter, nullptr), de::InvalidInputError);
+  EXPECT_THROW(aggregated->hessian(flat), de::InvalidInputError);
+  EXPECT_THROW(aggregated->hessian(nan), de::InvalidInputError);
 }

@@ -171,7 +171,7 @@ TEST(GhostMesh, ReducedFlowStepOnTheGhostLowersTheFinePathEnergyLikeTheExactStep
     const ss::FlowStep step = ghostFlow.step();
     EXPECT_FALSE(step.stalled);
     EXPECT_LT(step.pathEnergy, controlled);  // the step control lowers the ghost's eq. 4
-    EXPECT_DOUBLE_EQ(step.pathEnergy, ghostFlow.controlledPathEnergy());
+    EXPECT_NEAR(step.pathEnergy, ghostFlow.controlledPathEnergy(), 1e-12 * step.pathEnergy);  // the shapes moved rigidly since
     exactFlow.step();
   }
   const double exactDrop = before - exactFlow.pathEnergy(), ghostDrop = before - ghostFlow.pathEnergy();
