@@ -1,5 +1,6 @@
 // Shape-space benchmarks ([Brandt16 Table 1 / §7]), each next to its baselines in one process:
-//  - geodesic finger0 -> finger1 (2046 vertices, ../shared/data/finger) with DE_BENCH_GEODESIC_SHAPES
+//  - geodesic finger0 -> finger1 (2046 vertices, $DE_FINGER_DIR or ../shared/data/finger; skipped with a
+//    message when absent) with DE_BENCH_GEODESIC_SHAPES
 //    shapes (default 8), minimising eq. 4: reduced with the ghost mesh (1250 vertices) vs reduced exact vs
 //    full space (Newton); counters: length and path energy (on the full mesh), iterations, evaluations.
 //    With DE_BENCH_LARGE=1 also the paper's flow scheme (reduced, eq. 10), which takes minutes.
@@ -16,6 +17,7 @@
 #include <ctime>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <random>
 #include <string>
 #include <vector>
@@ -36,6 +38,12 @@ int envInt(const char* name, int fallback) {
   return v ? std::atoi(v) : fallback;
 }
 
+// [finger]: $DE_FINGER_DIR, else <source dir>/../shared/data/finger (the source dir from this file's path).
+std::string fingerDirectory() {
+  if (const char* dir = std::getenv("DE_FINGER_DIR")) return dir;
+  return (std::filesystem::path(__FILE__).parent_path().parent_path().parent_path().parent_path() / "shared" / "data" / "finger").string();
+}
+
 enum class Mode { ReducedGhost, ReducedExact, Full, FlowReduced };
 
 bool large() { return std::getenv("DE_BENCH_LARGE") != nullptr; }
@@ -53,8 +61,15 @@ void geodesicCase(benchmark::State& state, Mode mode) {
     }
     return;
   }
-  const dm::TriangleMesh a = dm::readTriangleMesh("/work/shared/data/finger/finger0.ply");
-  const dm::TriangleMesh b = dm::readTriangleMesh("/work/shared/data/finger/finger1.ply");
+  const std::string directory = fingerDirectory();
+  if (!std::filesystem::exists(directory + "/finger0.ply") || !std::filesystem::exists(directory + "/finger1.ply")) {
+    state.SkipWithError(("finger meshes not found in " + directory + " (set DE_FINGER_DIR)").c_str());
+    for (auto _ : state) {
+    }
+    return;
+  }
+  const dm::TriangleMesh a = dm::readTriangleMesh(directory + "/finger0.ply");
+  const dm::TriangleMesh b = dm::readTriangleMesh(directory + "/finger1.ply");
   const ss::ShapeSequence ends = ss::makeSequence({a, b}, 2);
   ss::DiscreteShells energy(ends.triangles, ends.numVertices(), ss::DiscreteShellsParameters::hyperelastic());
   ss::GeodesicOptions options;
