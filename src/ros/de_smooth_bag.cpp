@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
+#include <string>
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/mesh_io.hpp"
@@ -74,6 +75,12 @@ int main(int argc, char** argv) {
     ss::SmoothingFlow flow(energy, std::move(sequence), options);
     std::fprintf(stderr, "de_smooth_bag: path energy %.6g\n", flow.pathEnergy());
     int accepted = 0, unconverged = 0;
+    const auto number = [](double v) {
+      char text[32];
+      std::snprintf(text, sizeof(text), "%.9g", v);
+      return std::string(text);
+    };
+    std::string energies = number(flow.pathEnergy());  // eq. 4 (fine mesh) before and after every step
     for (int k = 0; k < iterations; ++k) {
       const ss::FlowStep step = flow.step();
       if (step.stalled) {  // no tau lowers eq. 4: later steps would stall the same way
@@ -82,6 +89,7 @@ int main(int argc, char** argv) {
       }
       ++accepted;
       unconverged += step.unconvergedAverages;
+      energies += ", " + number(flow.pathEnergy());
       std::fprintf(stderr, "de_smooth_bag: step %d/%d %spath energy %.6g (tau %.3g)%s\n", k + 1, iterations,
                    flow.ghostVertices() > 0 ? "ghost-mesh " : "", step.pathEnergy, step.tau,
                    step.unconvergedAverages > 0 ? ", some averages not converged" : "");
@@ -102,8 +110,8 @@ int main(int argc, char** argv) {
         out.write(m.getTopic(), m.getTime(), m, m.getConnectionHeader());
       }
     }
-    std::printf("{\"states\": %zu, \"accepted_steps\": %d, \"unconverged_averages\": %d, \"path_energy_final\": %.9g, "
-                "\"seconds\": %.3f}\n", clouds.size(), accepted, unconverged, flow.pathEnergy(),
+    std::printf("{\"states\": %zu, \"accepted_steps\": %d, \"unconverged_averages\": %d, \"path_energy\": [%s], "
+                "\"seconds\": %.3f}\n", clouds.size(), accepted, unconverged, energies.c_str(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     return 0;
   } catch (const de::Error& e) {

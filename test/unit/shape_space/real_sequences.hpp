@@ -25,6 +25,7 @@
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/md2_reader.hpp"
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
+#include "deformation_enrichment/shape_space/ghost_mesh.hpp"
 #include "deformation_enrichment/shape_space/shape_sequence.hpp"
 #include "deformation_enrichment/shape_space/smoothing_flow.hpp"
 
@@ -103,6 +104,19 @@ inline mesh::TriangleMesh cgalMesh(const std::string& name) {
     if (polygons[t].size() != 3) throw IoError(file.string() + " has a polygon that is not a triangle");
     out.triangles.col(Eigen::Index(t)) << polygons[t][0], polygons[t][1], polygons[t][2];
   }
+  return out;
+}
+
+/// `mesh` simplified to about `vertices` vertices by the ghost mesh's half-edge collapses (ghost_mesh.hpp):
+/// a real mesh of the wanted size (e.g. the 26k-vertex armadillo at 5k).
+inline mesh::TriangleMesh simplified(const mesh::TriangleMesh& mesh, int vertices) {
+  GhostMeshOptions options;
+  options.targetVertices = vertices;
+  const GhostMesh ghost = ghostMesh(mesh.triangles, flatten(mesh.vertices), options);
+  mesh::TriangleMesh out;
+  out.vertices.resize(3, ghost.numVertices());
+  for (Eigen::Index g = 0; g < ghost.numVertices(); ++g) out.vertices.col(g) = mesh.vertices.col(ghost.fineVertices[size_t(g)]);
+  out.triangles = ghost.triangles;
   return out;
 }
 
