@@ -27,6 +27,54 @@ namespace de = deformation_enrichment;
 namespace ss = deformation_enrichment::shape_space;
 namespace fs = std::filesystem;
 
+namespace {
+
+// Up to `iterations` flow steps (a stalled one ends the run), reported on stderr and as the JSON summary's
+// per-step arrays and status.
+nlohmann::json run(ss::SmoothingFlow& flow, int iterations) {
+  const bool ghost = flow.ghostVertices() > 0;
+  nlohmann::json out, energies = nlohmann::json::array(), ghostEnergies = nlohmann::json::array();
+  nlohmann::json taus = nlohmann::json::array(), solverIterations = nlohmann::json::array();
+  nlohmann::json unconverged = nlohmann::json::array(), unconvergedNorms = nlohmann::json::array();
+  energies.push_back(flow.pathEnergy());
+  if (ghost) ghostEnergies.push_back(flow.controlledPathEnergy());
+  int accepted = 0;
+  bool allConverged = true, stalled = false;
+  for (int k = 0; k < iterations; ++k) {
+    const ss::FlowStep step = flow.step();
+    if ((stalled = step.stalled)) {
+      std::cerr << "  step " << k + 1 << ": stalled (no tau lowers the path energy), the run ends here\n";
+      break;
+    }
+    ++accepted;
+    allConverged = allConverged && step.converged();
+    energies.push_back(ghost ? flow.pathEnergy() : step.pathEnergy);
+    if (ghost) ghostEnergies.push_back(step.pathEnergy);
+    taus.push_back(step.tau);
+    solverIterations.push_back(step.solverIterations);
+    unconverged.push_back(step.unconvergedAverages);
+    unconvergedNorms.push_back(step.unconvergedGradientNorm);
+    std::cerr << "  step " << k + 1 << ": path energy " << energies.back().get<double>() << " tau " << step.tau;
+    if (step.unconvergedAverages > 0)
+      std::cerr << " (" << step.unconvergedAverages << " averages not converged, gradient norm up to "
+                << step.unconvergedGradientNorm << ")";
+    std::cerr << "\n";
+  }
+  out["path_energy"] = energies;
+  if (ghost) out["ghost_path_energy"] = ghostEnergies;
+  out["ghost_vertices"] = flow.ghostVertices();
+  out["tau"] = taus;
+  out["solver_iterations"] = solverIterations;
+  out["unconverged_averages"] = unconverged;
+  out["unconverged_gradient_norm"] = unconvergedNorms;
+  out["accepted_steps"] = accepted;
+  out["stalled"] = stalled;
+  out["status"] = accepted == 0 && iterations > 0 ? "nothing_accepted" : allConverged ? "converged" : "not_converged";
+  return out;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{"Shape-space smoothing flow for deformation sequences ([Brandt16])"};
   std::vector<std::string> inputs;
@@ -65,36 +113,10 @@ int main(int argc, char** argv) {
     options.weights = proportional ? ss::FlowWeights::ProportionPreserving : ss::FlowWeights::Fixed;
     options.parallelShapes = true;  // DiscreteShells is thread-safe; the Jacobi update makes shapes independent
     ss::SmoothingFlow flow(energy, sequence, options);
-    nlohmann::json energies = nlohmann::json::array(), ghostEnergies = nlohmann::json::array();
-    energies.push_back(flow.pathEnergy());
-    if (flow.ghostVertices() > 0) ghostEnergies.push_back(flow.controlledPathEnergy());
-    nlohmann::json taus = nlohmann::json::array(), solverIterations = nlohmann::json::array();
     std::cerr << "de_smooth: " << inputs.size() << " shapes, " << sequence.numVertices() << " vertices, path energy "
               << flow.pathEnergy() << "\n";
-    nlohmann::json unconverged = nlohmann::json::array(), unconvergedNorms = nlohmann::json::array();
-    int accepted = 0;
-    bool allConverged = true, stalled = false;
-    for (int k = 0; k < iterations && !stalled; ++k) {
-      const ss::FlowStep step = flow.step();
-      stalled = step.stalled;
-      if (stalled) {
-        std::cerr << "  step " << k + 1 << ": stalled (no tau lowers the path energy), the run ends here\n";
-        break;
-      }
-      ++accepted;
-      allConverged = allConverged && step.converged();
-      energies.push_back(flow.ghostVertices() > 0 ? flow.pathEnergy() : step.pathEnergy);
-      if (flow.ghostVertices() > 0) ghostEnergies.push_back(step.pathEnergy);
-      taus.push_back(step.tau);
-      solverIterations.push_back(step.solverIterations);
-      unconverged.push_back(step.unconvergedAverages);
-      unconvergedNorms.push_back(step.unconvergedGradientNorm);
-      std::cerr << "  step " << k + 1 << ": path energy " << energies.back().get<double>() << " tau " << step.tau;
-      if (step.unconvergedAverages > 0)
-        std::cerr << " (" << step.unconvergedAverages << " averages not converged, gradient norm up to "
-                  << step.unconvergedGradientNorm << ")";
-      std::cerr << "\n";
-    }
+    nlohmann::json out = run(flow, iterations);
+    const int accepted = out["accepted_steps"].get<int>();
     fs::create_directories(output);
     for (size_t i = 0; i < inputs.size(); ++i) {
       de::mesh::TriangleMesh m = ss::shapeMesh(flow.current(), Eigen::Index(i));
@@ -102,17 +124,6 @@ int main(int argc, char** argv) {
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (common.json) {
-      nlohmann::json out;
-      out["path_energy"] = energies;
-      if (flow.ghostVertices() > 0) out["ghost_path_energy"] = ghostEnergies;
-      out["ghost_vertices"] = flow.ghostVertices();
-      out["tau"] = taus;
-      out["solver_iterations"] = solverIterations;
-      out["unconverged_averages"] = unconverged;
-      out["unconverged_gradient_norm"] = unconvergedNorms;
-      out["accepted_steps"] = accepted;
-      out["stalled"] = stalled;
-      out["status"] = accepted == 0 && iterations > 0 ? "nothing_accepted" : allConverged ? "converged" : "not_converged";
       out["seconds"] = seconds;
       out["shapes"] = inputs.size();
       out["vertices"] = sequence.numVertices();
