@@ -1,5 +1,5 @@
 // de_smooth: smooths a deformation sequence with the shape-space flow of [Brandt16] (eq. 2 with step
-// control, optional restoring force), reduced (PCA subspace + L-BFGS) or full space (Newton).
+// control, optional restoring force), reduced (PCA subspace + BFGS) or full space (Newton).
 //   de_smooth --input F0.obj F1.obj ... --output DIR --iterations K --tau T --restoring R [--closed]
 //             [--subspace d | --full] [--ghost N] [--json]
 // Writes the smoothed shapes under the same file names in DIR (OBJ or PLY, by extension) and prints one

@@ -154,7 +154,7 @@ ss::ShapeSequence bendingSheet(int n, int frames) {
   return seq;
 }
 
-// relativeTolerance: the L-BFGS stopping rule of each average (ReducedAverageOptions; 0 keeps the default).
+// relativeTolerance: the quasi-Newton stopping rule of each average (ReducedAverageOptions; 0 keeps the default).
 void smoothingStep(benchmark::State& state, bool ghost, double relativeTolerance) {
   if (!ghost && !large()) {
     state.SkipWithError("set DE_BENCH_LARGE=1 (takes minutes)");
