@@ -8,6 +8,8 @@
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
+#include <string>
+#include <vector>
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/mesh_io.hpp"
@@ -17,6 +19,57 @@
 
 namespace de = deformation_enrichment;
 namespace ss = de::shape_space;
+
+namespace {
+
+struct Run {
+  int accepted = 0, unconverged = 0;
+  std::string energies;  ///< eq. 4 (fine mesh) before and after every accepted step, comma-separated
+};
+
+// Up to `iterations` flow steps; a stalled step ends the run (later steps would stall the same way).
+Run smooth(ss::SmoothingFlow& flow, int iterations) {
+  const auto number = [](double v) {
+    char text[32];
+    std::snprintf(text, sizeof(text), "%.9g", v);
+    return std::string(text);
+  };
+  Run run;
+  run.energies = number(flow.pathEnergy());
+  for (int k = 0; k < iterations; ++k) {
+    const ss::FlowStep step = flow.step();
+    if (step.stalled) {
+      std::fprintf(stderr, "de_smooth_bag: step %d/%d stalled (no tau lowers the path energy), the run ends here\n", k + 1, iterations);
+      break;
+    }
+    ++run.accepted;
+    run.unconverged += step.unconvergedAverages;
+    run.energies += ", " + number(flow.pathEnergy());
+    std::fprintf(stderr, "de_smooth_bag: step %d/%d %spath energy %.6g (tau %.3g)%s\n", k + 1, iterations,
+                 flow.ghostVertices() > 0 ? "ghost-mesh " : "", step.pathEnergy, step.tau,
+                 step.unconvergedAverages > 0 ? ", some averages not converged" : "");
+  }
+  return run;
+}
+
+// The input bag with the topic's states replaced by `shapes` (same stamps and layout), the rest copied.
+void writeSmoothed(rosbag::Bag& in, const std::string& output, const std::string& topic,
+                   const std::vector<sensor_msgs::PointCloud2ConstPtr>& clouds, const std::vector<Eigen::VectorXd>& shapes) {
+  rosbag::Bag out(output, rosbag::bagmode::Write);
+  size_t next = 0;
+  for (const rosbag::MessageInstance& m : rosbag::View(in)) {
+    if (m.getTopic() == topic || m.getTopic() == "/" + topic) {
+      sensor_msgs::PointCloud2 smoothed = *clouds[next];
+      de::ros_layer::writePositions(ss::unflatten(shapes[next]).cast<float>(), smoothed);
+      out.write(m.getTopic(), m.getTime(), smoothed);
+      ++next;
+    } else {
+      out.write(m.getTopic(), m.getTime(), m, m.getConnectionHeader());
+    }
+  }
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"Smooth a mesh-state topic of a bag in shape space and write a new bag"};
@@ -61,34 +114,27 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "de_smooth_bag: %zu states of %ld vertices from %s\n", clouds.size(),
                  static_cast<long>(sequence.numVertices()), topic.c_str());
     ss::validateSequence(sequence, 3);
-    const ss::DiscreteShells energy(sequence.triangles, sequence.numVertices());
+    // GOAST's shell energy, bending scaled to the mesh size (as de_smooth)
+    const ss::DiscreteShells energy(sequence.triangles, sequence.numVertices(),
+                                    ss::DiscreteShellsParameters::hyperelasticFor(sequence.shapes.front()));
     ss::FlowOptions options;
     options.tau = tau;
     options.rho = restoring;
     options.closed = closed;
-    options.reduced = subspace > 0;
-    if (options.reduced) options.subspaceDimension = subspace;
+    options.reduction.reduced = subspace > 0;
+    if (options.reduction.reduced) options.reduction.subspaceDimension = subspace;
     options.parallelShapes = true;  // DiscreteShells is thread-safe; the Jacobi update makes shapes independent
     ss::SmoothingFlow flow(energy, std::move(sequence), options);
     std::fprintf(stderr, "de_smooth_bag: path energy %.6g\n", flow.pathEnergy());
-    for (int k = 0; k < iterations; ++k) {
-      const ss::FlowStep step = flow.step();
-      std::fprintf(stderr, "de_smooth_bag: step %d/%d %spath energy %.6g (tau %.3g)\n", k + 1, iterations,
-                   flow.ghostVertices() > 0 ? "ghost-mesh " : "", step.pathEnergy, step.tau);
+    const Run run = smooth(flow, iterations);
+    const int accepted = run.accepted;
+    if (accepted == 0 && iterations > 0) {
+      std::fprintf(stderr, "de_smooth_bag: no step was accepted; no bag written\n");
+      return 3;
     }
-    rosbag::Bag out(output, rosbag::bagmode::Write);
-    size_t next = 0;
-    for (const rosbag::MessageInstance& m : rosbag::View(in)) {
-      if (m.getTopic() == topic || m.getTopic() == "/" + topic) {
-        sensor_msgs::PointCloud2 smoothed = *clouds[next];
-        de::ros_layer::writePositions(ss::unflatten(flow.current().shapes[next]).cast<float>(), smoothed);
-        out.write(m.getTopic(), m.getTime(), smoothed);
-        ++next;
-      } else {
-        out.write(m.getTopic(), m.getTime(), m, m.getConnectionHeader());
-      }
-    }
-    std::printf("{\"states\": %zu, \"path_energy_final\": %.9g, \"seconds\": %.3f}\n", clouds.size(), flow.pathEnergy(),
+    writeSmoothed(in, output, topic, clouds, flow.current().shapes);
+    std::printf("{\"states\": %zu, \"accepted_steps\": %d, \"unconverged_averages\": %d, \"path_energy\": [%s], "
+                "\"seconds\": %.3f}\n", clouds.size(), accepted, run.unconverged, run.energies.c_str(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     return 0;
   } catch (const de::Error& e) {

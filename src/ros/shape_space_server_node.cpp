@@ -4,6 +4,7 @@
 #include <ros/ros.h>
 
 #include <chrono>
+#include <string>
 
 #include "deformation_enrichment/BezierCurve.h"
 #include "deformation_enrichment/ComputeGeodesic.h"
@@ -74,9 +75,8 @@ private:
   bool serve(const char* what, Response& response, Work work) {
     const auto start = std::chrono::steady_clock::now();
     try {
-      work();
+      response.message = work();  // "ok", or what the caller should know (e.g. a stalled flow)
       response.success = true;
-      response.message = "ok";
     } catch (const de::Error& e) {
       response.success = false;
       response.message = e.what();
@@ -94,17 +94,27 @@ private:
       options.tau = request.tau > 0.0 ? request.tau : 0.5;
       options.rho = request.restoring;
       options.closed = request.closed;
-      options.reduced = request.subspace > 0;
-      if (options.reduced) options.subspaceDimension = static_cast<int>(request.subspace);
+      options.reduction.reduced = request.subspace > 0;
+      if (options.reduction.reduced) options.reduction.subspaceDimension = static_cast<int>(request.subspace);
       options.parallelShapes = true;  // DiscreteShells is thread-safe; the Jacobi update makes shapes independent
       ss::SmoothingFlow flow(energy, std::move(input), options);
       response.path_energy.push_back(flow.pathEnergy());
+      int unconverged = 0;
+      std::string message = "ok";
       for (uint32_t k = 0; k < request.iterations; ++k) {
-        const double controlled = flow.step().pathEnergy;  // of the ghost shapes if a ghost mesh is used
-        response.path_energy.push_back(flow.ghostVertices() > 0 ? flow.pathEnergy() : controlled);
+        const ss::FlowStep step = flow.step();
+        if (step.stalled) {  // no tau lowers eq. 4: later steps would stall the same way
+          message = "stalled after " + std::to_string(k) + " steps (no tau lowers the path energy)";
+          break;
+        }
+        unconverged += step.unconvergedAverages;
+        // step.pathEnergy is of the ghost shapes if a ghost mesh is used
+        response.path_energy.push_back(flow.ghostVertices() > 0 ? flow.pathEnergy() : step.pathEnergy);
       }
+      if (unconverged > 0) message += ", " + std::to_string(unconverged) + " averages did not converge (last iterates used)";
       for (size_t i = 0; i < request.shapes.size(); ++i)
         response.shapes.push_back(cloud(flow.current().shapes[i], request.shapes[i].header));
+      return message;
     });
   }
 
@@ -116,12 +126,13 @@ private:
       const ss::DiscreteShells energy(tris, a.size() / 3, parameters_);
       ss::GeodesicOptions options;
       options.shapes = static_cast<int>(request.shapes);
-      options.flow.reduced = request.subspace > 0;
-      if (options.flow.reduced) options.flow.subspaceDimension = static_cast<int>(request.subspace);
+      options.reduction.reduced = request.subspace > 0;
+      if (options.reduction.reduced) options.reduction.subspaceDimension = static_cast<int>(request.subspace);
       const ss::GeodesicResult result = ss::geodesic(energy, tris, a, b, options);
       response.path_energy = result.pathEnergyHistory;
       response.length = result.length;
       for (const auto& s : result.shapes) response.shapes.push_back(cloud(s, request.start.header));
+      return std::string("ok");
     });
   }
 
@@ -135,6 +146,7 @@ private:
       const auto curve =
           ss::bezierCurve(energy, controls.triangles, controls.shapes, static_cast<int>(request.samples), options);
       for (const auto& s : curve) response.shapes.push_back(cloud(s, request.controls.front().header));
+      return std::string("ok");
     });
   }
 

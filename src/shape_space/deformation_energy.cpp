@@ -8,7 +8,7 @@
 namespace deformation_enrichment::shape_space {
 
 namespace {
-void checkShape(const Eigen::VectorXd& shape, Eigen::Index numVertices, const char* name) {
+void checkSizeAndFinite(const Eigen::VectorXd& shape, Eigen::Index numVertices, const char* name) {
   if (shape.size() != 3 * numVertices) {
     throw InvalidInputError(std::string("DeformationEnergy: ") + name + " shape has " +
                             std::to_string(shape.size()) + " entries, expected 3 x " +
@@ -24,9 +24,11 @@ void checkShape(const Eigen::VectorXd& shape, Eigen::Index numVertices, const ch
 }  // namespace
 
 void DeformationEnergy::checkShapes(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const {
-  checkShape(reference, numVertices(), "reference");
-  checkShape(deformed, numVertices(), "deformed");
+  checkSizeAndFinite(reference, numVertices(), "reference");
+  checkSizeAndFinite(deformed, numVertices(), "deformed");
 }
+
+void DeformationEnergy::checkShape(const Eigen::VectorXd& shape) const { checkSizeAndFinite(shape, numVertices(), "given"); }
 
 void DeformationEnergy::evaluate(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed,
                                  const EnergyOutputs& outputs) const {

@@ -8,8 +8,13 @@
 //    k a (l - l_star)^2 + k sum_i w_i (l_bar_i - l_star)^2 / l_bar_i with a = sum_i w_i / l_bar_i and
 //    l_star = (sum_i w_i) / a (no cancellation: for one example this is the original form);
 //  - bending: sum_i w_i omega_i (theta - theta_bar_i)^2 = Omega (theta - theta_star)^2 + const with
-//    Omega = sum_i w_i omega_i and theta_star the omega-weighted mean of theta_bar_i.
+//    Omega = sum_i w_i omega_i and theta_star the omega-weighted mean of theta_bar_i. The energy takes each
+//    difference modulo 2 pi, so this holds only where theta (shifted by 2 pi k to lie nearest theta_star)
+//    is within pi of every theta_bar_i; elsewhere (references whose angles spread widely, as on noisy
+//    hinges: measured 117 of 1000 hinges of a sydney.md2 clip with 0.4 % noise, where the aggregated value
+//    was 24 % off) the hinge sums its terms one by one.
 // The evaluation then costs one deformed-only pass instead of one full pass per example.
+#include <array>
 #include <cmath>
 #include <string>
 
@@ -54,6 +59,7 @@ public:
     if (!hyperelastic_) edges_.assign(shells.edges().size(), {});
     hinges_.assign(shells.hinges().size(), {});
     std::vector<double> thetaFirst(hinges_.size(), 0.0), omegaTheta(hinges_.size(), 0.0), omegaTheta2(hinges_.size(), 0.0);
+    std::vector<double> thetaMin(hinges_.size(), 0.0), thetaMax(hinges_.size(), 0.0);
     const double hingeFactor = hyperelastic_ ? 1.0 : 3.0;
     bool first = true;
     for (size_t i = 0; i < references.size(); ++i) {
@@ -103,26 +109,29 @@ public:
           hinges_[h].omega += omega;
           omegaTheta[h] += omega * theta;
           omegaTheta2[h] += omega * (theta - thetaFirst[h]) * (theta - thetaFirst[h]);  // shifted: no cancellation
+          thetaMin[h] = first ? theta : std::min(thetaMin[h], theta);
+          thetaMax[h] = first ? theta : std::max(thetaMax[h], theta);
+          hingeTerms_.push_back({omega, theta});  // reference-major: term (i, h) at i * hinges + h
         }
       }
       first = false;
+      ++references_;
     }
     if (!hyperelastic_) classicTargets(weights, references);
     for (size_t h = 0; h < hinges_.size(); ++h) {
-      if (!(hinges_[h].omega > 0.0)) continue;
-      hinges_[h].theta = omegaTheta[h] / hinges_[h].omega;
-      const double shift = hinges_[h].theta - thetaFirst[h];
-      constant_ += omegaTheta2[h] - hinges_[h].omega * shift * shift;  // sum_i omega_i (theta_bar_i - theta_star)^2
+      Hinge& hinge = hinges_[h];
+      if (!(hinge.omega > 0.0)) continue;
+      hinge.theta = omegaTheta[h] / hinge.omega;
+      const double shift = hinge.theta - thetaFirst[h];
+      hinge.constant = omegaTheta2[h] - hinge.omega * shift * shift;  // sum_i omega_i (theta_bar_i - theta_star)^2
+      hinge.lowest = thetaMax[h] - M_PI - hinge.theta;
+      hinge.highest = thetaMin[h] + M_PI - hinge.theta;
     }
   }
 
   double evaluate(const Eigen::VectorXd& y, Eigen::VectorXd* gradient) const override {
-    const Eigen::Index n = 3 * shells_.numVertices();
-    if (y.size() != n)
-      throw InvalidInputError("DiscreteShells: deformed shape has " + std::to_string(y.size()) + " entries, expected " +
-                              std::to_string(n));
-    if (!y.allFinite()) throw InvalidInputError("DiscreteShells: deformed shape is not finite");
-    if (gradient) gradient->setZero(n);
+    checkDeformed(y);
+    if (gradient) gradient->setZero(y.size());
     double value = constant_;
     // Closed forms in the deformed edge vectors (no jets: this pass runs once per solver evaluation).
     // A^2 = |n|^2 / 4 with n = (x1 - x0) x (x2 - x0), and d(A^2)/dx_a = n x (x_c - x_b) / 2 for (a, b, c)
@@ -173,19 +182,96 @@ public:
       if (!(hinge.omega > 0.0)) continue;
       const Eigen::Vector4i v = shells_.hinges()[h];
       const auto x = gatherCorners<4>(y, v);
-      if (!gradient) {
-        const double d = std::remainder(dihedralAngle(x[0], x[1], x[2], x[3]) - hinge.theta, 2.0 * M_PI);
-        value += hinge.omega * d * d;
-        continue;
-      }
-      const double d = std::remainder(dihedralAngleAndGradient(x[0], x[1], x[2], x[3], dTheta) - hinge.theta, 2.0 * M_PI);
-      value += hinge.omega * d * d;
-      for (int a = 0; a < 4; ++a) gradient->segment<3>(3 * v[a]) += 2.0 * hinge.omega * d * dTheta.segment<3>(3 * a);
+      const double theta = gradient ? dihedralAngleAndGradient(x[0], x[1], x[2], x[3], dTheta)
+                                    : dihedralAngle(x[0], x[1], x[2], x[3]);
+      const HingeValue b = hingeValue(h, theta);
+      value += b.value;
+      const double slope = b.slope;
+      if (gradient)
+        for (int a = 0; a < 4; ++a) gradient->segment<3>(3 * v[a]) += slope * dTheta.segment<3>(3 * a);
     }
     return value;
   }
 
+  Eigen::SparseMatrix<double> hessian(const Eigen::VectorXd& y) const override {
+    checkDeformed(y);
+    Eigen::SparseMatrix<double> h = shells_.hessianPattern().zeros;
+    double* const values = h.valuePtr();
+    static constexpr std::array<detail::LocalEdge, 3> kTriangleEdges{{{1, 2}, {2, 0}, {0, 1}}};  // edge m opposite corner m
+    static constexpr std::array<detail::LocalEdge, 1> kEdge{{{0, 1}}};
+    static constexpr std::array<detail::LocalEdge, 0> kNone{};
+    for (Eigen::Index t = 0; t < shells_.numTriangles(); ++t) {  // jets in the 3 deformed squared lengths
+      const std::array<int, 3> v{shells_.triangles()(0, t), shells_.triangles()(1, t), shells_.triangles()(2, t)};
+      const auto x = gatherCorners<3>(y, v);
+      if (degenerate(x)) throw InvalidInputError("DiscreteShells: triangle " + std::to_string(t) + " of the deformed shape is degenerate");
+      const Face& f = faces_[size_t(t)];
+      detail::LocalTerm<3> term(detail::kHessianDeformed);
+      const bool hyperelastic = hyperelastic_;
+      detail::addSquaredLengthTerm<3, 3, 0>(
+          [&f, hyperelastic](const auto& q) {
+            const auto area = detail::triangleArea(q[0], q[1], q[2]);
+            if (hyperelastic) return f.linear[0] * q[0] + f.linear[1] * q[1] + f.linear[2] * q[2] + f.quadratic * area * area -
+                                     f.logarithmic * log(area / f.scale);
+            return f.quadratic * (area - f.linear[0]) * (area - f.linear[0]);
+          },
+          x, x, kTriangleEdges, kNone, detail::kHessianDeformed, 1.0, term);
+      detail::scatterHessian<3>(term.hessianDeformed, v, shells_.hessianPattern(), values);
+    }
+    for (size_t e = 0; e < edges_.size(); ++e) {
+      const std::array<int, 2> v{shells_.edges()[e][0], shells_.edges()[e][1]};
+      const Edge& c = edges_[e];
+      detail::LocalTerm<2> term(detail::kHessianDeformed);
+      detail::addSquaredLengthTerm<2, 1, 0>([&c](const auto& q) { return c.quadratic * (sqrt(q[0]) - c.linear) * (sqrt(q[0]) - c.linear); },
+                                            gatherCorners<2>(y, v), gatherCorners<2>(y, v), kEdge, kNone,
+                                            detail::kHessianDeformed, 1.0, term);
+      detail::scatterHessian<2>(term.hessianDeformed, v, shells_.hessianPattern(), values);
+    }
+    for (size_t k = 0; k < hinges_.size(); ++k) {  // curvature * grad grad^T + slope * Hessian of theta
+      if (!(hinges_[k].omega > 0.0)) continue;
+      const std::array<int, 4> v{shells_.hinges()[k][0], shells_.hinges()[k][1], shells_.hinges()[k][2], shells_.hinges()[k][3]};
+      const auto x = gatherCorners<4>(y, v);
+      const HingeAngle theta = dihedralAngleDerivatives(x[0], x[1], x[2], x[3], true);
+      const HingeValue b = hingeValue(k, theta.theta);
+      const Eigen::Matrix<double, 12, 12> local = b.curvature * theta.gradient * theta.gradient.transpose() + b.slope * theta.hessian;
+      detail::scatterHessian<4>(local, v, shells_.hessianPattern(), values);
+    }
+    return h;
+  }
+
 private:
+  struct HingeValue {
+    double value = 0.0, slope = 0.0, curvature = 0.0;  // the hinge's term and its first two derivatives in theta
+  };
+
+  // The aggregated form where it holds, else the terms one by one (header).
+  HingeValue hingeValue(size_t h, double theta) const {
+    const Hinge& hinge = hinges_[h];
+    HingeValue b;
+    const double d = std::remainder(theta - hinge.theta, 2.0 * M_PI);
+    if (d >= hinge.lowest && d <= hinge.highest) {
+      b.value = hinge.omega * d * d + hinge.constant;
+      b.slope = 2.0 * hinge.omega * d;
+      b.curvature = 2.0 * hinge.omega;
+      return b;
+    }
+    for (size_t i = 0; i < references_; ++i) {
+      const HingeTerm& term = hingeTerms_[i * hinges_.size() + h];
+      const double di = std::remainder(theta - term.theta, 2.0 * M_PI);
+      b.value += term.omega * di * di;
+      b.slope += 2.0 * term.omega * di;
+      b.curvature += 2.0 * term.omega;
+    }
+    return b;
+  }
+
+  void checkDeformed(const Eigen::VectorXd& y) const {
+    const Eigen::Index n = 3 * shells_.numVertices();
+    if (y.size() != n)
+      throw InvalidInputError("DiscreteShells: deformed shape has " + std::to_string(y.size()) + " entries, expected " +
+                              std::to_string(n));
+    if (!y.allFinite()) throw InvalidInputError("DiscreteShells: deformed shape is not finite");
+  }
+
   double referenceLength(const Eigen::VectorXd& ref, size_t e) const {
     return (ref.segment<3>(3 * shells_.edges()[e][0]) - ref.segment<3>(3 * shells_.edges()[e][1])).norm();
   }
@@ -229,6 +315,11 @@ private:
   };
   struct Hinge {
     double omega = 0.0, theta = 0.0;  // bendingWeight-scaled Omega and theta_star
+    double constant = 0.0;            // sum_i omega_i (theta_bar_i - theta_star)^2
+    double lowest = 0.0, highest = 0.0;  // the range of theta - theta_star (mod 2 pi) where that form holds
+  };
+  struct HingeTerm {
+    double omega, theta;  // one reference's weight and (unwrapped) angle
   };
 
   const DiscreteShells& shells_;
@@ -236,6 +327,8 @@ private:
   std::vector<Face> faces_;
   std::vector<Edge> edges_;
   std::vector<Hinge> hinges_;
+  std::vector<HingeTerm> hingeTerms_;
+  size_t references_ = 0;  // with nonzero weight (and so terms in hingeTerms_ if bending is on)
   double constant_ = 0.0;
 };
 

@@ -5,11 +5,6 @@
 #include <string>
 
 #include <Eigen/SparseCore>
-#ifdef DE_HAVE_CHOLMOD
-#include <Eigen/CholmodSupport>
-#else
-#include <Eigen/SparseCholesky>
-#endif
 
 #include "deformation_enrichment/error.hpp"
 
@@ -33,18 +28,6 @@ void checkInputs(const std::vector<double>& weights, const std::vector<const Eig
   }
   if (!(total > 0.0)) throw InvalidInputError("elastic average: all weights are zero");
   if (!y.allFinite()) throw InvalidInputError("elastic average: initial shape is not finite");
-}
-
-Eigen::SparseMatrix<double> averageHessian(const DeformationEnergy& energy, const std::vector<double>& weights,
-                                           const std::vector<const Eigen::VectorXd*>& examples,
-                                           const Eigen::VectorXd& y, bool symmetric) {
-  Eigen::SparseMatrix<double> h(y.size(), y.size());
-  for (size_t i = 0; i < examples.size(); ++i) {
-    if (weights[i] == 0.0) continue;
-    h += weights[i] * energy.hessianDeformed(*examples[i], y);          // d2d2 E(y_i, y)
-    if (symmetric) h += weights[i] * energy.hessianReference(y, *examples[i]);  // d1d1 E(y, y_i)
-  }
-  return h;
 }
 
 }  // namespace
@@ -77,101 +60,63 @@ double averageObjective(const DeformationEnergy& energy, const std::vector<doubl
   return value;
 }
 
+Eigen::SparseMatrix<double> averageHessian(const DeformationEnergy& energy, const std::vector<double>& weights,
+                                           const std::vector<const Eigen::VectorXd*>& examples,
+                                           const Eigen::VectorXd& y, bool symmetric) {
+  checkInputs(weights, examples, y);
+  Eigen::SparseMatrix<double> h(y.size(), y.size());
+  for (size_t i = 0; i < examples.size(); ++i) {
+    if (weights[i] == 0.0) continue;
+    h += weights[i] * energy.hessianDeformed(*examples[i], y);          // d2d2 E(y_i, y)
+    if (symmetric) h += weights[i] * energy.hessianReference(y, *examples[i]);  // d1d1 E(y, y_i)
+  }
+  return h;
+}
+
+AverageObjective::AverageObjective(const DeformationEnergy& energy, std::vector<double> weights,
+                                   std::vector<const Eigen::VectorXd*> examples, bool symmetric)
+    : energy_(energy), weights_(std::move(weights)), examples_(std::move(examples)), symmetric_(symmetric) {
+  if (examples_.empty() || !examples_.front()) throw InvalidInputError("elastic average of no shapes");
+  checkInputs(weights_, examples_, *examples_.front());
+  // eq. 10 with an energy that aggregates its references: one pass per evaluation instead of one per example.
+  if (!symmetric_) aggregated_ = energy_.weightedReferences(weights_, examples_);
+}
+
+double AverageObjective::value(const Eigen::VectorXd& y, Eigen::VectorXd* gradient) const {
+  try {
+    return aggregated_ ? aggregated_->evaluate(y, gradient) : averageObjective(energy_, weights_, examples_, y, symmetric_, gradient);
+  } catch (const InvalidInputError&) {
+    if (y.size() != examples_.front()->size() || !y.allFinite()) throw;
+    return std::numeric_limits<double>::infinity();  // a collapsed triangle
+  }
+}
+
+Eigen::SparseMatrix<double> AverageObjective::hessian(const Eigen::VectorXd& y) const {
+  return aggregated_ ? aggregated_->hessian(y) : averageHessian(energy_, weights_, examples_, y, symmetric_);
+}
+
 AverageResult elasticAverage(const DeformationEnergy& energy, const std::vector<double>& weights,
                              const std::vector<const Eigen::VectorXd*>& examples, const Eigen::VectorXd& initial,
                              const AverageOptions& options) {
   checkInputs(weights, examples, initial);
+  const AverageObjective average(energy, weights, examples, options.symmetric);
+  NewtonObjective<Eigen::SparseMatrix<double>> objective;
+  objective.evaluate = [&](const Eigen::VectorXd& y, Eigen::VectorXd* gradient) { return average.value(y, gradient); };
+  objective.hessian = [&](const Eigen::VectorXd& y) { return average.hessian(y); };
   AverageResult result;
   result.shape = initial;
-  Eigen::VectorXd gradient;
-  double f = averageObjective(energy, weights, examples, result.shape, options.symmetric, &gradient);
-  const double f0 = f;
-#ifdef DE_HAVE_CHOLMOD
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;  // LLT: reports indefinite matrices
-#else
-  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
-#endif
-#ifdef DE_HAVE_CHOLMOD
-  solver.cholmod().print = 0;  // indefinite trial matrices are expected (handled by damping): no warnings
-#endif
-  bool analysed = false;
-  int stalledSteps = 0;
-  double damping = 1e-10;  // relative to the mean Hessian diagonal; only kills the rigid null space at first
-  for (int it = 0;; ++it) {
-    result.iterations = it;
-    if (gradient.norm() <= options.absoluteGradientTolerance) break;
-    if (it == options.maxIterations)
-      throw NumericalError("elastic average: Newton did not converge in " + std::to_string(options.maxIterations) +
-                           " iterations (gradient norm " + std::to_string(gradient.norm()) + ")");
-    Eigen::SparseMatrix<double> h = averageHessian(energy, weights, examples, result.shape, options.symmetric);
-    const double diagScale = std::max(h.diagonal().cwiseAbs().mean(), 1e-300);
-    if (!analysed) {
-      solver.analyzePattern(h);
-      analysed = true;
-    }
-    // Levenberg-Marquardt: raise the damping until the matrix is positive definite and the step descends.
-    Eigen::VectorXd step;
-    bool accepted = false;
-    for (int attempt = 0; attempt < 40 && !accepted; ++attempt) {
-      Eigen::SparseMatrix<double> damped = h;
-      for (Eigen::Index k = 0; k < damped.rows(); ++k) damped.coeffRef(k, k) += damping * diagScale;
-      solver.factorize(damped);
-      if (solver.info() != Eigen::Success) {
-        damping *= 10.0;
-        continue;
-      }
-      step = -solver.solve(gradient);
-      const double decrement = -gradient.dot(step);
-      if (!step.allFinite() || !(decrement > 0.0)) {
-        damping *= 10.0;
-        continue;
-      }
-      if (decrement <= options.relativeTolerance * f0) {  // Newton decrement: nothing left to gain
-        result.objective = f;
-        result.iterations = it;
-        return result;
-      }
-      // Armijo backtracking on the objective.
-      double alpha = 1.0;
-      for (int ls = 0; ls < 30; ++ls, alpha *= 0.5) {
-        const Eigen::VectorXd trial = result.shape + alpha * step;
-        Eigen::VectorXd trialGradient;
-        double ft = std::numeric_limits<double>::infinity();
-        try {
-          ft = averageObjective(energy, weights, examples, trial, options.symmetric, &trialGradient);
-        } catch (const InvalidInputError&) {
-          // The trial step collapsed a triangle (the energy rejects degenerate shapes): step too long.
-        }
-        if (std::isfinite(ft) && ft <= f - 1e-4 * alpha * decrement) {
-          // Progress below the objective's double-precision resolution: count it (see below).
-          stalledSteps = (f - ft <= 1e-13 * std::abs(f)) ? stalledSteps + 1 : 0;
-          result.shape = trial;
-          f = ft;
-          gradient = trialGradient;
-          accepted = true;
-          break;
-        }
-      }
-      if (!accepted) damping *= 10.0;
-      else damping = std::max(damping * 0.1, 1e-10);
-    }
-    if (accepted && stalledSteps >= 3) {
-      // Three accepted steps in a row that changed the objective by less than 1e-13 relative: the computed
-      // objective cannot be lowered further at double precision (seen on jittered MD2 meshes, whose skinny
-      // triangles make the Hessian extremely stiff). A minimiser to working precision; it is flagged.
-      result.objective = f;
-      result.iterations = it + 1;
-      result.stalledAtRoundOff = true;
-      return result;
-    }
-    if (!accepted) {
-      // No descent even with heavy damping: either at a minimum up to round-off, or a failure.
-      if (gradient.norm() <= 1e-8 * std::max(1.0, std::sqrt(f0))) break;
-      throw NumericalError("elastic average: Newton found no descent step at iteration " + std::to_string(it) +
-                           " (gradient norm " + std::to_string(gradient.norm()) + ")");
-    }
-  }
-  result.objective = f;
+  const double f0 = average.value(initial, nullptr);
+  if (!std::isfinite(f0)) throw NumericalError("elastic average: the objective is not finite at the start");
+  NewtonOptions newton;
+  newton.maxIterations = options.maxIterations;
+  newton.decrementTolerance = options.relativeTolerance * f0;
+  newton.gradientSquaredTolerance = options.absoluteGradientTolerance * options.absoluteGradientTolerance;
+  const NewtonReport report = dampedNewton(objective, result.shape, newton);
+  result.objective = report.value;
+  result.iterations = report.iterations;
+  result.evaluations = report.evaluations + 1;
+  result.status = report.status;
+  result.gradientNorm = std::sqrt(report.gradientSquaredNorm);
   return result;
 }
 

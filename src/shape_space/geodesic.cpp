@@ -8,8 +8,9 @@
 #include "deformation_enrichment/shape_space/affine_subspace.hpp"
 #include "deformation_enrichment/shape_space/elastic_average.hpp"
 #include "deformation_enrichment/shape_space/geodesic_path.hpp"
-#include "deformation_enrichment/shape_space/ghost_mesh.hpp"
+#include "deformation_enrichment/shape_space/path_energy.hpp"
 #include "deformation_enrichment/shape_space/rigid_interpolation.hpp"
+#include "deformation_enrichment/shape_space/smoothing_flow.hpp"
 
 namespace deformation_enrichment::shape_space {
 namespace {
@@ -33,10 +34,13 @@ std::vector<Eigen::VectorXd> resample(const std::vector<Eigen::VectorXd>& coarse
 // The paper's scheme: the smoothing flow (eq. 2, ends fixed) at every level until its residual meets the rule.
 GeodesicResult flowGeodesic(const DeformationEnergy& energy, const Eigen::Matrix3Xi& triangles, const Eigen::VectorXd& a,
                             const Eigen::VectorXd& b, const GeodesicOptions& options) {
-  FlowOptions flowOptions = options.flow;
-  flowOptions.closed = false;
-  flowOptions.rho = 0.0;
-  flowOptions.acceptResidualDecrease = true;  // eq. 10: converge to its own fixed point (see FlowOptions)
+  FlowOptions flowOptions;
+  flowOptions.tau = options.tau;
+  flowOptions.reduction = options.reduction;
+  flowOptions.symmetricAverage = options.average.symmetric;
+  flowOptions.full = options.average;
+  flowOptions.acceptResidualDecrease = true;
+  flowOptions.flowDirectionShapes = 20;  // [Brandt16 §6]: coarse curves get their flow tangents  // eq. 10: converge to its own fixed point (see FlowOptions)
 
   GeodesicResult result;
   std::vector<Eigen::VectorXd> shapes{a, b};
@@ -57,10 +61,10 @@ GeodesicResult flowGeodesic(const DeformationEnergy& energy, const Eigen::Matrix
         result.converged = gradient <= threshold;
         if (step.stalled) break;  // no tau decreases eq. 4 any more: as converged as this level gets
       }
-      if (!flowOptions.reduced || round == options.enrichmentRounds) break;
+      if (!flowOptions.reduction.reduced || round == options.enrichmentRounds) break;
       // Check the unprojected residual with the full-space version of the rule.
       FlowOptions fullOptions = flowOptions;
-      fullOptions.reduced = false;
+      fullOptions.reduction.reduced = false;
       const SmoothingFlow fullView(energy, flow.current(), fullOptions);
       const double fullResidual = fullView.reducedResidualSquaredNorm();
       const double fullThreshold = std::max(options.absoluteFactor * double(fullView.degreesOfFreedom()),
@@ -73,7 +77,7 @@ GeodesicResult flowGeodesic(const DeformationEnergy& energy, const Eigen::Matrix
     result.finalGradientSquaredNorm = gradient;
     {
       FlowOptions fullOptions = flowOptions;
-      fullOptions.reduced = false;
+      fullOptions.reduction.reduced = false;
       result.finalFullResidualSquaredNorm = SmoothingFlow(energy, flow.current(), fullOptions).reducedResidualSquaredNorm();
     }
     shapes = flow.current().shapes;
@@ -88,27 +92,22 @@ GeodesicResult flowGeodesic(const DeformationEnergy& energy, const Eigen::Matrix
 // Minimises eq. 4 over all inner shapes at every level (geodesic_path.hpp), reduced or full.
 GeodesicResult pathEnergyGeodesic(const DeformationEnergy& energy, const Eigen::Matrix3Xi& triangles,
                                   const Eigen::VectorXd& a, const Eigen::VectorXd& b, const GeodesicOptions& options) {
-  const FlowOptions& flow = options.flow;
+  const ReductionOptions& reduction = options.reduction;
   PathSolveOptions solveOptions;
   solveOptions.maxIterations = options.maxIterationsPerLevel;
   solveOptions.absoluteFactor = options.absoluteFactor;
   solveOptions.relativeFactor = options.relativeFactor;
   GeodesicResult result;
   // The ghost mesh of the start shape, shared by all levels ([Brandt16 §6]).
-  std::unique_ptr<GhostMesh> ghost;
-  std::unique_ptr<DeformationEnergy> ghostEnergy;
-  if (flow.reduced && flow.useGhostMesh && a.size() / 3 > flow.ghostMesh.targetVertices) {
-    ghost = std::make_unique<GhostMesh>(ghostMesh(triangles, a, flow.ghostMesh));
-    ghostEnergy = energy.onTriangles(ghost->triangles, ghost->numVertices());
-    result.ghostVertices = ghost->numVertices();
-  }
+  const EvaluationSpace space(energy, triangles, a, reduction);
+  result.ghostVertices = space.ghostVertices();
   std::vector<Eigen::VectorXd> shapes{a, b};
   Eigen::MatrixXd carried;  // reduced: the previous level's basis
   while (int(shapes.size()) < options.shapes) {
     const int refined = std::min(options.shapes, (int(shapes.size()) - 1) * (options.insertPerSegment + 1) + 1);
     shapes = resample(shapes, refined);
     PathSolveReport report;
-    if (!flow.reduced) {
+    if (!reduction.reduced) {
       report = minimisePathEnergyFull(energy, shapes, solveOptions);
       result.iterations += report.iterations;
       result.evaluations += report.evaluations;
@@ -118,28 +117,28 @@ GeodesicResult pathEnergyGeodesic(const DeformationEnergy& energy, const Eigen::
       // flow directions): at the first level those at the initial path, later the previous level's basis
       // (its tangents were taken at a solved path; new ones would cost a factorisation per shape). Each
       // round adds the tangents at the current path.
-      AffineSubspace subspace = pcaSubspace(shapes, flow.subspaceDimension);
+      AffineSubspace subspace = pcaSubspace(shapes, reduction.subspaceDimension);
       subspace.origin.setZero();  // only the basis is used: shape k = (its current value) + B q_k
       if (carried.cols() == 0) {
-        enrich(subspace, pathTangents(energy, shapes));
+        enrich(subspace, flowTangents(energy, shapes, false));
       } else {
         std::vector<Eigen::VectorXd> previous;
         for (Eigen::Index c = 0; c < carried.cols(); ++c) previous.push_back(carried.col(c));
         enrich(subspace, previous);
       }
       for (int round = 0;; ++round) {
-        report = minimisePathEnergyReduced(energy, shapes, subspace.basis, ghost.get(), ghostEnergy.get(), solveOptions);
+        report = minimisePathEnergyReduced(space, shapes, subspace.basis, solveOptions);
         result.iterations += report.iterations;
         result.evaluations += report.evaluations;
         std::vector<Eigen::VectorXd> gradients;
-        result.pathEnergyHistory.push_back(pathEnergy(energy, shapes, ghost ? nullptr : &gradients));
+        result.pathEnergyHistory.push_back(pathEnergy(energy, shapes, false, space.ghost() ? nullptr : &gradients));
         if (round == options.enrichmentRounds || !report.converged) break;
-        if (!ghost) {  // exact energies: stop once the unprojected gradient meets the rule too
+        if (!space.ghost()) {  // exact energies: stop once the unprojected gradient meets the rule too
           double full = 0.0;
           for (size_t k = 1; k + 1 < gradients.size(); ++k) full += gradients[k].squaredNorm();
           if (full <= options.absoluteFactor * double(a.size()) * double(shapes.size() - 2)) break;
         }
-        if (enrich(subspace, pathTangents(energy, shapes)) == 0) break;
+        if (enrich(subspace, flowTangents(energy, shapes, false)) == 0) break;
       }
       carried = subspace.basis;
     }
@@ -150,7 +149,7 @@ GeodesicResult pathEnergyGeodesic(const DeformationEnergy& energy, const Eigen::
                            std::to_string(report.gradientSquaredNorm) + " > " + std::to_string(report.threshold) + ")");
   }
   std::vector<Eigen::VectorXd> gradients;
-  pathEnergy(energy, shapes, &gradients);
+  pathEnergy(energy, shapes, false, &gradients);
   result.finalFullResidualSquaredNorm = 0.0;
   for (size_t k = 1; k + 1 < gradients.size(); ++k) result.finalFullResidualSquaredNorm += gradients[k].squaredNorm();
   result.shapes = std::move(shapes);
@@ -158,18 +157,6 @@ GeodesicResult pathEnergyGeodesic(const DeformationEnergy& energy, const Eigen::
 }
 
 }  // namespace
-
-double pathLength(const DeformationEnergy& energy, const std::vector<Eigen::VectorXd>& shapes) {
-  double length = 0.0;
-  const int segments = int(shapes.size()) - 1;
-  // Segments in parallel on large meshes (the energy's own loops then run serially).
-#pragma omp parallel for reduction(+ : length) if (energy.numVertices() >= 1000)
-  for (int k = 0; k < segments; ++k) {
-    const Eigen::VectorXd &a = shapes[size_t(k)], &b = shapes[size_t(k + 1)];
-    length += std::sqrt(std::max(0.5 * (energy.value(a, b) + energy.value(b, a)), 0.0));
-  }
-  return length;
-}
 
 GeodesicResult geodesic(const DeformationEnergy& energy, const Eigen::Matrix3Xi& triangles, const Eigen::VectorXd& a,
                         const Eigen::VectorXd& b, const GeodesicOptions& options) {
@@ -191,8 +178,7 @@ std::vector<Eigen::VectorXd> bezierCurve(const DeformationEnergy& energy, const 
   if (controls.size() < 2) throw InvalidInputError("bezier curve: needs at least 2 control shapes");
   if (samples < 2) throw InvalidInputError("bezier curve: needs at least 2 samples");
   validateSequence(ShapeSequence{triangles, controls}, 2);
-  AverageOptions averageOptions = options.flow.full;
-  averageOptions.symmetric = options.flow.symmetricAverage;
+  const AverageOptions& averageOptions = options.average;
   // Point at parameter t on a discrete geodesic: grid shape, or the weighted average of the two around t.
   const auto pointOn = [&](const std::vector<Eigen::VectorXd>& path, double t) {
     const int segments = int(path.size()) - 1;
@@ -201,9 +187,13 @@ std::vector<Eigen::VectorXd> bezierCurve(const DeformationEnergy& energy, const 
     const double s = u - k;
     if (s < 1e-12) return path[size_t(k)];
     if (s > 1.0 - 1e-12) return path[size_t(k + 1)];
-    return elasticAverage(energy, {1.0 - s, s}, {&path[size_t(k)], &path[size_t(k + 1)]},
-                          rigidAwareInterpolation(path[size_t(k)], path[size_t(k + 1)], s), averageOptions)
-        .shape;
+    const AverageResult average = elasticAverage(energy, {1.0 - s, s}, {&path[size_t(k)], &path[size_t(k + 1)]},
+                                                 rigidAwareInterpolation(path[size_t(k)], path[size_t(k + 1)], s),
+                                                 averageOptions);
+    if (!average.converged() && options.requireConvergence)
+      throw NumericalError("bezier curve: the elastic average at t = " + std::to_string(t) + " did not converge (gradient norm " +
+                           std::to_string(average.gradientNorm) + ")");
+    return average.shape;
   };
   // The geodesics between successive control shapes are shared by all samples: compute them once.
   std::vector<std::vector<Eigen::VectorXd>> firstLevel;

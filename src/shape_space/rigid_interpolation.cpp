@@ -1,5 +1,6 @@
 #include "deformation_enrichment/shape_space/rigid_interpolation.hpp"
 
+#include <string>
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/kinematics/kabsch.hpp"
@@ -21,6 +22,25 @@ Eigen::VectorXd applyRigid(const RigidTransform& motion, const Eigen::VectorXd& 
   Eigen::Matrix3Xd p = unflatten(positions);
   p = (motion.rotation * p).colwise() + motion.translation;
   return flatten(p);
+}
+
+Eigen::VectorXd alignPieces(const Eigen::VectorXd& shape, const Eigen::VectorXd& target,
+                            const std::vector<std::vector<int>>& pieces) {
+  if (shape.size() != target.size() || shape.size() % 3 != 0)
+    throw InvalidInputError("align pieces: shapes must be equally long multiples of 3");
+  Eigen::VectorXd out = shape;
+  for (const std::vector<int>& piece : pieces) {
+    Eigen::Matrix3Xd from(3, Eigen::Index(piece.size())), to(3, Eigen::Index(piece.size()));
+    for (size_t k = 0; k < piece.size(); ++k) {
+      if (piece[k] < 0 || 3 * Eigen::Index(piece[k]) >= shape.size())
+        throw InvalidInputError("align pieces: vertex index " + std::to_string(piece[k]) + " out of range");
+      from.col(Eigen::Index(k)) = shape.segment<3>(3 * piece[k]);
+      to.col(Eigen::Index(k)) = target.segment<3>(3 * piece[k]);
+    }
+    const kinematics::RigidTransform fit = kinematics::kabsch(from, to);
+    for (size_t k = 0; k < piece.size(); ++k) out.segment<3>(3 * piece[k]) = fit.R * from.col(Eigen::Index(k)) + fit.t;
+  }
+  return out;
 }
 
 Eigen::VectorXd rigidAwareInterpolation(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double t) {

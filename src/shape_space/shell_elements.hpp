@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include "deformation_enrichment/shape_space/discrete_shells.hpp"
 #include "second_order_jet.hpp"
 
 namespace deformation_enrichment::shape_space::detail {
@@ -45,6 +46,27 @@ struct LocalTerm {
 };
 
 using LocalEdge = std::array<int, 2>;
+
+// Adds a local 3NV x 3NV block matrix into the pattern's value array. Column 3 vb + d of the pattern holds
+// the rows 3 va + r of every neighbour va of vb (sorted), so the entry sits at
+// outer[3 vb + d] + 3 rank(va among vb's neighbours) + r.
+template <int NV>
+void scatterHessian(const Eigen::Matrix<double, 3 * NV, 3 * NV>& local, const std::array<int, NV>& vertices,
+                    const HessianPattern& pattern, double* values) {
+  for (int b = 0; b < NV; ++b) {
+    const int vb = vertices[b];
+    const int* neighboursBegin = pattern.neighbours.data() + pattern.neighbourStart[vb];
+    const int* neighboursEnd = pattern.neighbours.data() + pattern.neighbourStart[vb + 1];
+    for (int a = 0; a < NV; ++a) {
+      const int rank = static_cast<int>(std::lower_bound(neighboursBegin, neighboursEnd, vertices[a]) - neighboursBegin);
+      for (int d = 0; d < 3; ++d) {
+        double* column = values + pattern.outer[3 * vb + d] + 3 * rank;
+        for (int r = 0; r < 3; ++r) column[r] += local(3 * a + r, 3 * b + d);
+      }
+    }
+  }
+}
+
 
 /// Triangle area from squared edge lengths by Kahan's stable form of Heron's formula (accurate for slivers).
 template <class T>

@@ -15,6 +15,7 @@
 #include "deformation_enrichment/mesh/mesh_io.hpp"
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
 #include "deformation_enrichment/shape_space/geodesic.hpp"
+#include "deformation_enrichment/shape_space/shape_sequence.hpp"
 #include "shape_space_cli.hpp"
 
 namespace de = deformation_enrichment;
@@ -45,12 +46,13 @@ int main(int argc, char** argv) {
     const de::mesh::TriangleMesh a = de::mesh::readTriangleMesh(pathA);
     const de::mesh::TriangleMesh b = de::mesh::readTriangleMesh(pathB);
     const ss::ShapeSequence ends = ss::makeSequence({a, b}, 2);
-    const ss::DiscreteShells energy(ends.triangles, ends.numVertices(), common.parameters());
+    const ss::DiscreteShells energy(ends.triangles, ends.numVertices(), common.parameters(ends.shapes.front()));
     ss::GeodesicOptions options;
     options.shapes = shapes;
     options.insertPerSegment = insert;
-    options.flow.tau = tau;
-    common.applyTo(options.flow);
+    options.tau = tau;
+    common.applyTo(options.reduction);
+    options.average.symmetric = common.symmetric;
     options.enrichmentRounds = rounds;
     options.solver = useFlow ? ss::GeodesicSolver::Flow : ss::GeodesicSolver::PathEnergy;
     std::cerr << "de_geodesic: " << ends.numVertices() << " vertices, " << shapes << " shapes, "

@@ -1,11 +1,13 @@
 // de_smooth: smooths a deformation sequence with the shape-space flow of [Brandt16] (eq. 2 with step
-// control, optional restoring force), reduced (PCA subspace + L-BFGS) or full space (Newton).
+// control, optional restoring force), reduced (PCA subspace + BFGS) or full space (Newton).
 //   de_smooth --input F0.obj F1.obj ... --output DIR --iterations K --tau T --restoring R [--closed]
 //             [--subspace d | --full] [--ghost N] [--json]
 // Writes the smoothed shapes under the same file names in DIR (OBJ or PLY, by extension) and prints one
-// JSON object {"path_energy": [input, after step 1, ...], "seconds": s, ...}; progress goes to stderr.
-// path_energy is eq. 4 on the full mesh; with a ghost mesh, ghost_path_energy is the one the step control
-// lowers.
+// JSON object {"path_energy": [input, after step 1, ...], "seconds": s, "status": ..., ...}; progress goes to
+// stderr. path_energy is eq. 4 on the full mesh; with a ghost mesh, ghost_path_energy is the one the step
+// control lowers. A step that no tau lets lower eq. 4 ends the run (stalled); a step whose averages did not
+// all converge is kept and reported (unconverged_averages, unconverged_gradient_norm). Exit status 0 if a
+// step was accepted (or none was asked for), 3 if none was (the input is written unchanged), 1 on errors.
 #include <chrono>
 #include <filesystem>
 #include <iostream>
@@ -24,6 +26,54 @@
 namespace de = deformation_enrichment;
 namespace ss = deformation_enrichment::shape_space;
 namespace fs = std::filesystem;
+
+namespace {
+
+// Up to `iterations` flow steps (a stalled one ends the run), reported on stderr and as the JSON summary's
+// per-step arrays and status.
+nlohmann::json run(ss::SmoothingFlow& flow, int iterations) {
+  const bool ghost = flow.ghostVertices() > 0;
+  nlohmann::json out, energies = nlohmann::json::array(), ghostEnergies = nlohmann::json::array();
+  nlohmann::json taus = nlohmann::json::array(), solverIterations = nlohmann::json::array();
+  nlohmann::json unconverged = nlohmann::json::array(), unconvergedNorms = nlohmann::json::array();
+  energies.push_back(flow.pathEnergy());
+  if (ghost) ghostEnergies.push_back(flow.controlledPathEnergy());
+  int accepted = 0;
+  bool allConverged = true, stalled = false;
+  for (int k = 0; k < iterations; ++k) {
+    const ss::FlowStep step = flow.step();
+    if ((stalled = step.stalled)) {
+      std::cerr << "  step " << k + 1 << ": stalled (no tau lowers the path energy), the run ends here\n";
+      break;
+    }
+    ++accepted;
+    allConverged = allConverged && step.converged();
+    energies.push_back(ghost ? flow.pathEnergy() : step.pathEnergy);
+    if (ghost) ghostEnergies.push_back(step.pathEnergy);
+    taus.push_back(step.tau);
+    solverIterations.push_back(step.solverIterations);
+    unconverged.push_back(step.unconvergedAverages);
+    unconvergedNorms.push_back(step.unconvergedGradientNorm);
+    std::cerr << "  step " << k + 1 << ": path energy " << energies.back().get<double>() << " tau " << step.tau;
+    if (step.unconvergedAverages > 0)
+      std::cerr << " (" << step.unconvergedAverages << " averages not converged, gradient norm up to "
+                << step.unconvergedGradientNorm << ")";
+    std::cerr << "\n";
+  }
+  out["path_energy"] = energies;
+  if (ghost) out["ghost_path_energy"] = ghostEnergies;
+  out["ghost_vertices"] = flow.ghostVertices();
+  out["tau"] = taus;
+  out["solver_iterations"] = solverIterations;
+  out["unconverged_averages"] = unconverged;
+  out["unconverged_gradient_norm"] = unconvergedNorms;
+  out["accepted_steps"] = accepted;
+  out["stalled"] = stalled;
+  out["status"] = accepted == 0 && iterations > 0 ? "nothing_accepted" : allConverged ? "converged" : "not_converged";
+  return out;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"Shape-space smoothing flow for deformation sequences ([Brandt16])"};
@@ -52,32 +102,21 @@ int main(int argc, char** argv) {
     std::vector<de::mesh::TriangleMesh> meshes;
     for (const std::string& path : inputs) meshes.push_back(de::mesh::readTriangleMesh(path));
     const ss::ShapeSequence sequence = ss::makeSequence(meshes);
-    const ss::DiscreteShells energy(sequence.triangles, sequence.numVertices(), common.parameters());
+    const ss::DiscreteShells energy(sequence.triangles, sequence.numVertices(), common.parameters(sequence.shapes.front()));
     ss::FlowOptions options;
     options.tau = tau;
     options.rho = restoring;
     options.restoredShapes = restoredShapes;
     options.closed = closed;
-    common.applyTo(options);
+    common.applyTo(options.reduction);
+    options.symmetricAverage = common.symmetric;
     options.weights = proportional ? ss::FlowWeights::ProportionPreserving : ss::FlowWeights::Fixed;
     options.parallelShapes = true;  // DiscreteShells is thread-safe; the Jacobi update makes shapes independent
     ss::SmoothingFlow flow(energy, sequence, options);
-    nlohmann::json energies = nlohmann::json::array(), ghostEnergies = nlohmann::json::array();
-    energies.push_back(flow.pathEnergy());
-    if (flow.ghostVertices() > 0) ghostEnergies.push_back(flow.controlledPathEnergy());
-    nlohmann::json taus = nlohmann::json::array(), solverIterations = nlohmann::json::array();
     std::cerr << "de_smooth: " << inputs.size() << " shapes, " << sequence.numVertices() << " vertices, path energy "
               << flow.pathEnergy() << "\n";
-    for (int k = 0; k < iterations; ++k) {
-      const ss::FlowStep step = flow.step();
-      energies.push_back(flow.ghostVertices() > 0 ? flow.pathEnergy() : step.pathEnergy);
-      if (flow.ghostVertices() > 0) ghostEnergies.push_back(step.pathEnergy);
-      taus.push_back(step.tau);
-      solverIterations.push_back(step.solverIterations);
-      std::cerr << "  step " << k + 1 << ": path energy " << energies.back().get<double>() << " tau " << step.tau
-                << (step.stalled ? " (stalled: no tau decreases the path energy)" : "") << "\n";
-      if (step.stalled) break;
-    }
+    nlohmann::json out = run(flow, iterations);
+    const int accepted = out["accepted_steps"].get<int>();
     fs::create_directories(output);
     for (size_t i = 0; i < inputs.size(); ++i) {
       de::mesh::TriangleMesh m = ss::shapeMesh(flow.current(), Eigen::Index(i));
@@ -85,17 +124,15 @@ int main(int argc, char** argv) {
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (common.json) {
-      nlohmann::json out;
-      out["path_energy"] = energies;
-      if (flow.ghostVertices() > 0) out["ghost_path_energy"] = ghostEnergies;
-      out["ghost_vertices"] = flow.ghostVertices();
-      out["tau"] = taus;
-      out["solver_iterations"] = solverIterations;
       out["seconds"] = seconds;
       out["shapes"] = inputs.size();
       out["vertices"] = sequence.numVertices();
       out["mode"] = common.full ? "full" : "reduced";
       std::cout << out.dump() << std::endl;
+    }
+    if (accepted == 0 && iterations > 0) {
+      std::cerr << "de_smooth: no step was accepted (no tau lowers the path energy); the input was written unchanged\n";
+      return 3;
     }
     return 0;
   } catch (const de::Error& e) {

@@ -1,5 +1,6 @@
 // Shape-space benchmarks ([Brandt16 Table 1 / §7]), each next to its baselines in one process:
-//  - geodesic finger0 -> finger1 (2046 vertices, ../shared/data/finger) with DE_BENCH_GEODESIC_SHAPES
+//  - geodesic finger0 -> finger1 (2046 vertices, $DE_FINGER_DIR or ../shared/data/finger; skipped with a
+//    message when absent) with DE_BENCH_GEODESIC_SHAPES
 //    shapes (default 8), minimising eq. 4: reduced with the ghost mesh (1250 vertices) vs reduced exact vs
 //    full space (Newton); counters: length and path energy (on the full mesh), iterations, evaluations.
 //    With DE_BENCH_LARGE=1 also the paper's flow scheme (reduced, eq. 10), which takes minutes.
@@ -8,6 +9,8 @@
 //    sheet (DE_BENCH_GRID^2 vertices, default 122^2 = 14884), reduced with the ghost mesh, shapes in
 //    parallel, vs the per-vertex Gaussian trajectory filter; with DE_BENCH_LARGE=1 also reduced exact
 //    (minutes). Paper 004: 2.13 s/step (Java, with a 1252-vertex ghost mesh); target <= 0.3 s.
+//  - end-to-end smoothing runs (smoothingRun): a noisy 17-frame MD2 clip and a 5k-vertex bent armadillo,
+//    each next to the tuned Gaussian filter.
 // Run: bench_shape_space --benchmark_repetitions=3 --benchmark_report_aggregates_only=true. process_cpu_s is
 // the CPU time of all threads (with OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1: the work, whatever the load).
 #include <benchmark/benchmark.h>
@@ -16,10 +19,14 @@
 #include <ctime>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "../unit/shape_space/real_sequences.hpp"
+#include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/mesh/md2_reader.hpp"
 #include "deformation_enrichment/mesh/mesh_io.hpp"
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
 #include "deformation_enrichment/shape_space/geodesic.hpp"
@@ -34,6 +41,12 @@ namespace {
 int envInt(const char* name, int fallback) {
   const char* v = std::getenv(name);
   return v ? std::atoi(v) : fallback;
+}
+
+// [finger]: $DE_FINGER_DIR, else <source dir>/../shared/data/finger (the source dir from this file's path).
+std::string fingerDirectory() {
+  if (const char* dir = std::getenv("DE_FINGER_DIR")) return dir;
+  return (std::filesystem::path(__FILE__).parent_path().parent_path().parent_path().parent_path() / "shared" / "data" / "finger").string();
 }
 
 enum class Mode { ReducedGhost, ReducedExact, Full, FlowReduced };
@@ -53,16 +66,23 @@ void geodesicCase(benchmark::State& state, Mode mode) {
     }
     return;
   }
-  const dm::TriangleMesh a = dm::readTriangleMesh("/work/shared/data/finger/finger0.ply");
-  const dm::TriangleMesh b = dm::readTriangleMesh("/work/shared/data/finger/finger1.ply");
+  const std::string directory = fingerDirectory();
+  if (!std::filesystem::exists(directory + "/finger0.ply") || !std::filesystem::exists(directory + "/finger1.ply")) {
+    state.SkipWithError(("finger meshes not found in " + directory + " (set DE_FINGER_DIR)").c_str());
+    for (auto _ : state) {
+    }
+    return;
+  }
+  const dm::TriangleMesh a = dm::readTriangleMesh(directory + "/finger0.ply");
+  const dm::TriangleMesh b = dm::readTriangleMesh(directory + "/finger1.ply");
   const ss::ShapeSequence ends = ss::makeSequence({a, b}, 2);
   ss::DiscreteShells energy(ends.triangles, ends.numVertices(), ss::DiscreteShellsParameters::hyperelastic());
   ss::GeodesicOptions options;
   options.shapes = envInt("DE_BENCH_GEODESIC_SHAPES", 8);
-  options.flow.tau = 1.0;
-  options.flow.reduced = mode != Mode::Full;
-  options.flow.useGhostMesh = mode == Mode::ReducedGhost;
-  options.flow.subspaceDimension = 16;
+  options.tau = 1.0;
+  options.reduction.reduced = mode != Mode::Full;
+  options.reduction.useGhostMesh = mode == Mode::ReducedGhost;
+  options.reduction.subspaceDimension = 16;
   options.solver = mode == Mode::FlowReduced ? ss::GeodesicSolver::Flow : ss::GeodesicSolver::PathEnergy;
   if (mode == Mode::FlowReduced) options.enrichmentRounds = 4;  // the flow's former default
   // The full path is the reference: Newton converges quadratically, so it is cheap to solve it well past
@@ -134,7 +154,7 @@ ss::ShapeSequence bendingSheet(int n, int frames) {
   return seq;
 }
 
-// relativeTolerance: the L-BFGS stopping rule of each average (ReducedAverageOptions; 0 keeps the default).
+// relativeTolerance: the quasi-Newton stopping rule of each average (ReducedAverageOptions; 0 keeps the default).
 void smoothingStep(benchmark::State& state, bool ghost, double relativeTolerance) {
   if (!ghost && !large()) {
     state.SkipWithError("set DE_BENCH_LARGE=1 (takes minutes)");
@@ -146,9 +166,9 @@ void smoothingStep(benchmark::State& state, bool ghost, double relativeTolerance
   ss::DiscreteShells energy(seq.triangles, seq.numVertices(), ss::DiscreteShellsParameters::hyperelastic());
   ss::FlowOptions options;
   options.tau = 0.5;
-  options.reduced = true;
-  options.subspaceDimension = 16;
-  options.useGhostMesh = ghost;
+  options.reduction.reduced = true;
+  options.reduction.subspaceDimension = 16;
+  options.reduction.useGhostMesh = ghost;
   options.parallelShapes = true;  // Jacobi update: the shapes of one step are independent
   if (relativeTolerance > 0.0) options.reducedSolver.relativeTolerance = relativeTolerance;
   ss::SmoothingFlow flow(energy, seq, options);  // preprocess (ghost mesh, subspace, preconditioners): not timed
@@ -203,6 +223,53 @@ void gaussianFilterStep(benchmark::State& state) {
   state.counters["frames"] = double(seq.numShapes());
 }
 
+// End-to-end smoothing runs of real captures as de_smooth runs them (10 steps, reduced, tau 0.5, restoring
+// force 0.05, GOAST's energy for the size) next to the Gaussian trajectory filter tuned to the same
+// intrinsic roughness (its one filtering pass timed; the tuning not): a noisy 17-frame MD2 clip (faerie
+// taunt, 0.4 % noise) and the stand-in for a 5k-vertex scanned bending sequence (the armadillo of
+// [CGAL-data] simplified to 5000 vertices, bent over 16 frames, 0.2 % noise; 1250-vertex ghost mesh).
+void smoothingRun(benchmark::State& state, bool md2) {
+  namespace st = ss::test;
+  ss::ShapeSequence input;
+  try {
+    if (md2) {
+      const dm::Md2Animation animation = dm::readMd2(std::string(st::kMd2Directory) + "faerie.md2");
+      input = st::noisyClip(animation, st::Clip{"taunt", 95, 111}, 0.004, 1);
+    } else {
+      const dm::TriangleMesh armadillo = st::simplified(st::cgalMesh("armadillo"), 5000);
+      input = ss::ShapeSequence{armadillo.triangles, st::withNoise(st::bentSequence(armadillo, 16, 1.5), 0.002, 2)};
+    }
+  } catch (const deformation_enrichment::Error& e) {
+    state.SkipWithError(e.what());
+    for (auto _ : state) {
+    }
+    return;
+  }
+  ss::FlowOptions options = st::captureSmoothing();
+  options.parallelShapes = true;
+  st::FilterComparison c;
+  for (auto _ : state) {
+    c = st::compareWithFilter(input, options, 10);
+    benchmark::DoNotOptimize(c.smoothed.back().data());
+  }
+  state.counters["flow_s"] = c.flowSeconds;
+  state.counters["filter_s"] = c.filterSeconds;
+  state.counters["flow_over_filter"] = c.flowSeconds / c.filterSeconds;
+  state.counters["accepted_steps"] = c.accepted;
+  state.counters["path_energy_before"] = c.pathEnergy.front();
+  state.counters["path_energy_after"] = c.pathEnergy.back();
+  state.counters["monotone"] = c.monotone ? 1 : 0;
+  state.counters["roughness_ratio"] = c.roughnessAfter / c.roughnessBefore;
+  state.counters["trajectory_roughness_ratio"] = c.trajectoryAfter / c.trajectoryBefore;
+  state.counters["filter_sigma"] = c.sigma;
+  state.counters["edge_change_flow"] = c.flow.edge;
+  state.counters["edge_change_filter"] = c.filter.edge;
+  state.counters["volume_change_flow"] = c.flow.volume;
+  state.counters["volume_change_filter"] = c.filter.volume;
+  state.counters["vertices"] = double(input.numVertices());
+  state.counters["frames"] = double(input.numShapes());
+}
+
 }  // namespace
 
 // The full-space case runs first: the reduced ones report their distance to its path.
@@ -215,5 +282,7 @@ BENCHMARK_CAPTURE(smoothingStep, reduced_ghost, true, 0.0)->Iterations(1)->Unit(
 BENCHMARK_CAPTURE(smoothingStep, reduced_ghost_tol1e-8, true, 1e-8)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(smoothingStep, reduced_exact, false, 0.0)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 BENCHMARK(gaussianFilterStep)->Iterations(3)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(smoothingRun, md2_faerie_taunt_17_frames, true)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(smoothingRun, armadillo_5k_bent_16_frames, false)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_MAIN();

@@ -1,5 +1,5 @@
 // Integration test of shape_space_server's services against a real master, and of de_smooth_bag on a
-// recorded bag: results come back with the right sizes and headers, the path energy decreases, a rigid
+// recorded bag and on real noisy captures (MD2 clips of [assimp-testmodels]): results come back with the right sizes and headers, the path energy decreases, a rigid
 // motion costs ~nothing, and bad input is answered with success = false and a message.
 #include <gtest/gtest.h>
 #include <ros/ros.h>
@@ -8,8 +8,12 @@
 #include <unistd.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <cstdio>
 #include <cstdlib>
+#include <nlohmann/json.hpp>
 #include <random>
+#include <string>
 
 #include "deformation_enrichment/BezierCurve.h"
 #include "deformation_enrichment/ComputeGeodesic.h"
@@ -17,6 +21,7 @@
 #include "deformation_enrichment/mesh/grid_tet_mesh.hpp"
 #include "deformation_enrichment/mesh/tet_surface.hpp"
 #include "deformation_enrichment/ros/conversions.hpp"
+#include "../unit/shape_space/real_sequences.hpp"
 
 namespace de = deformation_enrichment;
 
@@ -34,6 +39,14 @@ std_msgs::Header header(int i) {
   h.frame_id = "object";
   h.stamp = ros::Time(100 + i);
   return h;
+}
+
+// The directory of this test's executable, where catkin puts de_smooth_bag too.
+std::string toolDirectory() {
+  char self[4096];
+  const ssize_t length = readlink("/proc/self/exe", self, sizeof(self) - 1);
+  const std::string path(self, size_t(std::max<ssize_t>(length, 0)));
+  return path.substr(0, path.find_last_of('/'));
 }
 
 // A bending motion with per-frame jitter (a noisy capture).
@@ -144,10 +157,7 @@ TEST(ShapeSpaceServer, BadInputIsAnsweredWithAMessage) {
 }
 
 TEST(DeSmoothBag, SmoothsTheTopicAndCopiesTheRest) {
-  char self[4096];
-  const ssize_t length = readlink("/proc/self/exe", self, sizeof(self) - 1);
-  ASSERT_GT(length, 0);
-  const std::string dir = std::string(self, size_t(length)).substr(0, std::string(self, size_t(length)).find_last_of('/'));
+  const std::string dir = toolDirectory();
   const std::string in = ::testing::TempDir() + "de_smooth_in.bag", out = ::testing::TempDir() + "de_smooth_out.bag";
   const auto frames = noisySequence(6, 0.004);
   {
@@ -176,6 +186,60 @@ TEST(DeSmoothBag, SmoothsTheTopicAndCopiesTheRest) {
   EXPECT_LT(jitter(smoothed), jitter(frames));
   EXPECT_NE(std::system((dir + "/de_smooth_bag --input /nonexistent.bag --output " + out +
                          " --topic /mesh_state --topology-topic /rest_mesh 2> /dev/null").c_str()), 0);
+}
+
+// Real, noisy captures through de_smooth_bag as a user runs it (defaults: full space; the restoring force
+// of de_smooth), judged as test_real_sequences judges de_smooth: every step accepted, eq. 4 falling, the
+// shapes' motion smoother, and less volume change than the Gaussian filter wherever that filter needs a
+// wide kernel ([Brandt16 Fig. 8]).
+TEST(DeSmoothBag, SmoothsRealNoisyCapturesWithFallingPathEnergyAndLessDistortionThanTheFilter) {
+  namespace st = de::shape_space::test;
+  std::vector<std::pair<std::string, de::shape_space::ShapeSequence>> captures;
+  const de::mesh::Md2Animation faerie = de::mesh::readMd2(std::string(st::kMd2Directory) + "faerie.md2");
+  const de::mesh::Md2Animation sydney = de::mesh::readMd2(std::string(st::kMd2Directory) + "sydney.md2");
+  captures.emplace_back("faerie run", st::noisyClip(faerie, st::Clip{"run", 40, 45}, 0.003, 11));
+  captures.emplace_back("sydney crwalk", st::noisyClip(sydney, st::Clip{"crwalk", 154, 159}, 0.002, 12));
+  for (const auto& [name, input] : captures) {
+    const std::string in = ::testing::TempDir() + "de_smooth_real_in.bag", out = ::testing::TempDir() + "de_smooth_real_out.bag";
+    std::vector<Eigen::VectorXd> sent;  // what the bag holds: float32 positions
+    {
+      rosbag::Bag bag(in, rosbag::bagmode::Write);
+      bag.write("/rest_mesh", ros::Time(100), de::ros_layer::messageFromTriangleMesh({de::shape_space::unflatten(input.shapes[0]), input.triangles}, header(0)));
+      for (size_t f = 0; f < input.shapes.size(); ++f) {
+        const Eigen::Matrix3Xf frame = de::shape_space::unflatten(input.shapes[f]).cast<float>();
+        bag.write("/mesh_state", ros::Time(100 + f), de::ros_layer::cloudFromPositions(frame, header(int(f))));
+        sent.push_back(de::shape_space::flatten(frame.cast<double>()));
+      }
+    }
+    const std::string command = toolDirectory() + "/de_smooth_bag --input " + in + " --output " + out +
+                                " --topic /mesh_state --topology-topic /rest_mesh --iterations 3 --restoring 0.05 2> /dev/null";
+    FILE* pipe = popen(command.c_str(), "r");
+    ASSERT_NE(pipe, nullptr);
+    std::string json;
+    char buffer[4096];
+    while (fgets(buffer, sizeof(buffer), pipe)) json += buffer;
+    ASSERT_EQ(pclose(pipe), 0) << name << ": " << command;
+    const auto report = nlohmann::json::parse(json);
+    EXPECT_EQ(report["accepted_steps"].get<int>(), 3) << name;
+    const std::vector<double> energies = report["path_energy"].get<std::vector<double>>();
+    ASSERT_EQ(energies.size(), 4u) << name;
+    for (size_t k = 1; k < energies.size(); ++k) EXPECT_LT(energies[k], energies[k - 1]) << name << " step " << k;
+    std::vector<Eigen::VectorXd> smoothed;
+    rosbag::Bag bag(out, rosbag::bagmode::Read);
+    for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery("/mesh_state")))
+      smoothed.push_back(de::shape_space::flatten(de::ros_layer::positionsFromCloud(*m.instantiate<sensor_msgs::PointCloud2>()).cast<double>()));
+    ASSERT_EQ(smoothed.size(), sent.size()) << name;
+    const auto intrinsic = [&](const std::vector<Eigen::VectorXd>& x) { return st::intrinsicRoughness(x, input.triangles); };
+    const double roughness = intrinsic(smoothed);
+    EXPECT_LT(roughness, intrinsic(sent)) << name;
+    const double sigma = st::sigmaForRoughness(sent, roughness, intrinsic);
+    const st::Distortion flow = st::distortion(sent, smoothed, input.triangles);
+    const st::Distortion filter = st::distortion(sent, st::gaussianFilter(sent, sigma), input.triangles);
+    std::printf("%s: roughness x%.3f, sigma %.2f, volume change %.4f vs filter %.4f, edge change %.4f vs %.4f\n", name.c_str(),
+                roughness / intrinsic(sent), sigma, flow.volume, filter.volume, flow.edge, filter.edge);
+    EXPECT_GE(sigma, 1.5) << name << ": these clips move too much for a narrow filter";
+    EXPECT_LT(flow.volume, filter.volume) << name;
+  }
 }
 
 }  // namespace

@@ -28,6 +28,8 @@ public:
   /// The value; with gradient, its derivative in y. Throws InvalidInputError for a wrongly sized,
   /// non-finite or degenerate y.
   virtual double evaluate(const Eigen::VectorXd& deformed, Eigen::VectorXd* gradient) const = 0;
+  /// The Hessian in y (both triangles stored); same errors.
+  virtual Eigen::SparseMatrix<double> hessian(const Eigen::VectorXd& deformed) const = 0;
 };
 
 class DeformationEnergy {
@@ -36,6 +38,10 @@ public:
 
   /// Number of vertices V of the fixed topology; every shape argument has size 3V.
   virtual Eigen::Index numVertices() const = 0;
+
+  /// Throws InvalidInputError naming the problem if `shape` cannot be an argument: wrong size or a
+  /// non-finite entry (the default), plus the implementation's own conditions (e.g. degenerate triangles).
+  virtual void checkShape(const Eigen::VectorXd& shape) const;
 
   /// W[reference, deformed].
   virtual double value(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const = 0;

@@ -20,8 +20,8 @@
 // degenerate: every evaluation then throws InvalidInputError naming the triangle and the shape.
 //
 // Evaluations are const and keep no state, so several threads may evaluate one DiscreteShells at once (each
-// call runs its own OpenMP loop over triangles, edges and hinges; nested inside an outer parallel region it
-// runs serially unless nesting is enabled). Hessians share one sparsity pattern (vertex pairs sharing a
+// call runs its own OpenMP loop over triangles, edges and hinges on meshes of >= 1000 vertices, serially on
+// smaller ones; nested inside an outer parallel region it runs serially unless nesting is enabled). Hessians share one sparsity pattern (vertex pairs sharing a
 // triangle or a hinge), so blocks from different calls add without reallocation.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -55,33 +55,24 @@ struct DiscreteShellsParameters {
   static DiscreteShellsParameters classic();
   /// GOAST's shell energy: mu = lambda = 1, bending weighted by delta.
   static DiscreteShellsParameters hyperelastic(double delta = 1e-3);
-};
-
-/// All outputs of one pass (only the requested ones are filled).
-struct ShellEvaluation {
-  double value = 0.0;
-  Eigen::VectorXd gradientDeformed, gradientReference;
-  Eigen::SparseMatrix<double> hessianDeformed, hessianMixed, hessianReference;
+  /// GOAST's shell energy with delta for the size of `shape` (flat 3V, bounding-box diagonal D): the
+  /// membrane grows with the area and the bending term does not (delta is a squared thickness), so GOAST's
+  /// delta = 1e-3 on the finger (D = 5.1313) becomes 1e-3 (D / 5.1313)^2, the same relative thickness (0.14
+  /// on the MD2 models, where 1e-3 left hinges free to flap and noisy clips got rougher vertex trajectories).
+  /// Throws InvalidInputError for an empty, non-finite or single-point shape.
+  static DiscreteShellsParameters hyperelasticFor(const Eigen::VectorXd& shape);
 };
 
 class DiscreteShells final : public DeformationEnergy {
 public:
-  /// Requested outputs for evaluate() (bit flags).
-  enum Output : unsigned {
-    kValue = 1u,
-    kGradientDeformed = 2u,
-    kGradientReference = 4u,
-    kHessianDeformed = 8u,
-    kHessianMixed = 16u,
-    kHessianReference = 32u,
-  };
-
   /// triangles: 3 x T vertex indices into numVertices vertices. Throws InvalidInputError on an empty mesh,
   /// out-of-range or repeated indices, or non-finite / negative parameters.
   DiscreteShells(const Eigen::Matrix3Xi& triangles, Eigen::Index numVertices,
                  const DiscreteShellsParameters& parameters = DiscreteShellsParameters::hyperelastic());
 
   Eigen::Index numVertices() const override { return numVertices_; }
+  /// Size, finite entries and no degenerate triangle (see the header comment).
+  void checkShape(const Eigen::VectorXd& shape) const override;
   double value(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const override;
   Eigen::VectorXd gradientDeformed(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const override;
   Eigen::VectorXd gradientReference(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const override;
@@ -92,9 +83,7 @@ public:
   Eigen::SparseMatrix<double> hessianReference(const Eigen::VectorXd& reference,
                                                const Eigen::VectorXd& deformed) const override;
 
-  /// Several outputs in one pass over the mesh (outputs: OR of Output flags).
-  ShellEvaluation evaluate(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed, unsigned outputs) const;
-  /// The interface's several-outputs call, in one pass over the mesh.
+  /// Several outputs (the non-null members of `outputs`) in one pass over the mesh.
   void evaluate(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed,
                 const EnergyOutputs& outputs) const override;
 
@@ -103,7 +92,7 @@ public:
 
   /// sum_i w_i W[x_i, .] in one pass per evaluation (discrete_shells_average.cpp): every term is linear in
   /// per-element reference data (see there), so the examples aggregate into one effective reference.
-  /// Value and gradient only. Throws InvalidInputError for mismatched sizes, negative or non-finite
+  /// Value, gradient and Hessian in one deformed-only pass each. Throws InvalidInputError for mismatched sizes, negative or non-finite
   /// weights, or non-finite or degenerate references.
   std::unique_ptr<WeightedReferenceEnergy> weightedReferences(
       const std::vector<double>& weights, const std::vector<const Eigen::VectorXd*>& references) const override;
@@ -125,12 +114,24 @@ public:
   Eigen::Index numEdges() const { return static_cast<Eigen::Index>(edges_.size()); }
   Eigen::Index numHinges() const { return static_cast<Eigen::Index>(hinges_.size()); }
   Eigen::Index numBoundaryEdges() const { return numBoundaryEdges_; }
+  /// The sparsity of every Hessian block (and of weightedReferences' Hessians).
+  const detail::HessianPattern& hessianPattern() const { return pattern_; }
   Eigen::Index numNonManifoldEdges() const { return numNonManifoldEdges_; }
 
 private:
   enum Parts : unsigned { kMembrane = 1u, kBending = 2u };
-  ShellEvaluation assemble(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed, unsigned outputs,
-                           unsigned parts) const;
+  /// The requested outputs of the given parts (OR of Parts) in one pass.
+  void assemble(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed, const EnergyOutputs& outputs,
+                unsigned parts) const;
+  /// One output of a pass over `parts`.
+  template <class T>
+  T one(T* EnergyOutputs::*member, const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed, unsigned parts) const {
+    T result{};
+    EnergyOutputs outputs;
+    outputs.*member = &result;
+    assemble(reference, deformed, outputs, parts);
+    return result;
+  }
   void checkTriangles(const Eigen::VectorXd& shape, const char* name) const;
   void buildHessianPattern();
 

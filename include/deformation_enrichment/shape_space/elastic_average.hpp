@@ -1,13 +1,16 @@
 #pragma once
 // Elastic shape averaging ([Brandt16 §3/§6]): A(w, y) = argmin_y sum_i w_i E(y_i, y)   (eq. 10), or the
-// symmetric sum_i w_i (E(y_i, y) + E(y, y_i))   (eq. 1). Full-space Newton with a sparse Cholesky
-// factorisation (CHOLMOD when available) and Levenberg-Marquardt damping; the damping is isotropic, so the
-// iteration commutes with rigid motions and never moves along the energy's rigid null space (the gradient
-// of a rigid-invariant energy is orthogonal to it): results follow rigid motions of the inputs exactly.
+// symmetric sum_i w_i (E(y_i, y) + E(y, y_i))   (eq. 1). Full-space damped Newton (damped_newton.hpp) with
+// a sparse Cholesky factorisation (CHOLMOD when available); the damping is isotropic, so the iteration
+// commutes with rigid motions and never moves along the energy's rigid null space (the gradient of a
+// rigid-invariant energy is orthogonal to it): results follow rigid motions of the inputs exactly.
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
+#include "deformation_enrichment/shape_space/damped_newton.hpp"
 #include "deformation_enrichment/shape_space/deformation_energy.hpp"
 
 namespace deformation_enrichment::shape_space {
@@ -22,20 +25,43 @@ struct AverageOptions {
 };
 
 struct AverageResult {
-  Eigen::VectorXd shape;
+  Eigen::VectorXd shape;  ///< the last accepted iterate (the start if no step was accepted)
   double objective = 0.0;
   int iterations = 0;
-  /// Newton stopped because three steps in a row lowered the objective by less than 1e-13 relative (a
-  /// minimiser to double precision, though the gradient test was not met).
-  bool stalledAtRoundOff = false;
+  int evaluations = 0;  ///< objective evaluations
+  MinimiserStatus status = MinimiserStatus::NotConverged;
+  double gradientNorm = 0.0;  ///< |gradient| at shape (reduced solver: of the reduced objective)
   /// Reduced solver only: q with shape = origin + basis q (lets a ghost-mesh solve be lifted to the fine mesh).
   Eigen::VectorXd reducedCoordinates;
-  int evaluations = 0;  ///< objective evaluations (reduced solver only)
+  bool converged() const { return status != MinimiserStatus::NotConverged; }
+};
+
+/// The objective of eq. 10 / eq. 1 prepared once for the solvers: eq. 10 through the energy's aggregated
+/// references (DeformationEnergy::weightedReferences: one deformed-only pass per value, gradient or
+/// Hessian) when it has them, else term by term. The energy and the examples must outlive it.
+class AverageObjective {
+public:
+  /// Throws InvalidInputError for mismatched sizes, negative/non-finite weights, all-zero weights or
+  /// non-finite examples.
+  AverageObjective(const DeformationEnergy& energy, std::vector<double> weights,
+                   std::vector<const Eigen::VectorXd*> examples, bool symmetric);
+  /// The value and, with gradient, its gradient at y; +infinity if y is not admissible (a collapsed
+  /// triangle), so a solver treats such a trial as too long.
+  double value(const Eigen::VectorXd& y, Eigen::VectorXd* gradient) const;
+  Eigen::SparseMatrix<double> hessian(const Eigen::VectorXd& y) const;
+
+private:
+  const DeformationEnergy& energy_;
+  std::vector<double> weights_;
+  std::vector<const Eigen::VectorXd*> examples_;
+  bool symmetric_;
+  std::unique_ptr<WeightedReferenceEnergy> aggregated_;
 };
 
 /// Weighted elastic average of `examples` (flat 3V vectors), Newton started at `initial`.
 /// Throws InvalidInputError for mismatched sizes, negative/non-finite weights, an all-zero weight vector or
-/// non-finite shapes; NumericalError if Newton does not converge within maxIterations.
+/// non-finite shapes, NumericalError if the objective is not finite at the start. A run that does not
+/// converge within maxIterations returns its last iterate with status NotConverged.
 AverageResult elasticAverage(const DeformationEnergy& energy, const std::vector<double>& weights,
                              const std::vector<const Eigen::VectorXd*>& examples, const Eigen::VectorXd& initial,
                              const AverageOptions& options = {});
@@ -44,5 +70,10 @@ AverageResult elasticAverage(const DeformationEnergy& energy, const std::vector<
 double averageObjective(const DeformationEnergy& energy, const std::vector<double>& weights,
                         const std::vector<const Eigen::VectorXd*>& examples, const Eigen::VectorXd& y,
                         bool symmetric, Eigen::VectorXd* gradient);
+
+/// The Hessian of that objective in y (both triangles stored).
+Eigen::SparseMatrix<double> averageHessian(const DeformationEnergy& energy, const std::vector<double>& weights,
+                                           const std::vector<const Eigen::VectorXd*>& examples,
+                                           const Eigen::VectorXd& y, bool symmetric);
 
 }  // namespace deformation_enrichment::shape_space

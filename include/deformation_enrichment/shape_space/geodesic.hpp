@@ -12,7 +12,9 @@
 #include <Eigen/Core>
 
 #include "deformation_enrichment/shape_space/deformation_energy.hpp"
-#include "deformation_enrichment/shape_space/smoothing_flow.hpp"
+#include "deformation_enrichment/shape_space/path_energy.hpp"
+#include "deformation_enrichment/shape_space/elastic_average.hpp"
+#include "deformation_enrichment/shape_space/evaluation_space.hpp"
 
 namespace deformation_enrichment::shape_space {
 
@@ -20,14 +22,17 @@ enum class GeodesicSolver { PathEnergy, Flow };
 
 struct GeodesicOptions {
   /// No ghost mesh by default: on the finger it lengthens the geodesic by 3 % for a 1.1x saving (README).
-  GeodesicOptions() { flow.useGhostMesh = false; }
+  GeodesicOptions() { reduction.useGhostMesh = false; }
 
   int shapes = 8;              ///< shapes on the final path, ends included (>= 3)
   int insertPerSegment = 2;    ///< paper: two or three
   GeodesicSolver solver = GeodesicSolver::PathEnergy;
-  /// reduced/full, subspace size and ghost mesh for both solvers; tau and averaging for Flow only
-  /// (closed is ignored).
-  FlowOptions flow;
+  /// Reduced or full space, subspace size and ghost mesh, for both solvers.
+  ReductionOptions reduction;
+  double tau = 1.0;  ///< Flow only: the flow's step size
+  /// The elastic averages: of the Flow solver (symmetric: eq. 1 instead of eq. 10; the Newton settings in
+  /// full mode) and of bezierCurve's points between grid shapes.
+  AverageOptions average;
   /// Stop a level when the squared gradient norm (PathEnergy: reduced gradient of eq. 4; Flow:
   /// SmoothingFlow::reducedResidualSquaredNorm) <= absoluteFactor * dof (the paper's rule with 1e-8)
   /// or <= relativeFactor * (its value at the start of the level).
@@ -60,9 +65,6 @@ struct GeodesicResult {
 /// (sizes, NaN, degenerate triangles, fewer than 3 shapes requested) and NumericalError on failure.
 GeodesicResult geodesic(const DeformationEnergy& energy, const Eigen::Matrix3Xi& triangles, const Eigen::VectorXd& a,
                         const Eigen::VectorXd& b, const GeodesicOptions& options = {});
-
-/// Length of a path as defined for GeodesicResult::length.
-double pathLength(const DeformationEnergy& energy, const std::vector<Eigen::VectorXd>& shapes);
 
 /// De Casteljau's algorithm in shape space ([Brandt16 §7]): straight lines become geodesics. Each
 /// geodesic is computed with `options.shapes` shapes; the point at parameter t between grid shapes

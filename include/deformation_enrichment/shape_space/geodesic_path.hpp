@@ -9,12 +9,14 @@
 //    Hessians, each costing as much as 14 gradients); energy and derivatives optionally from the ghost mesh
 //    ([Brandt16 §6]) with the same reduced coordinates;
 //  - full: damped Newton in R^{3V (K-1)} with a sparse Cholesky factorisation, for checking.
+// Both run the shared damped Newton routine (damped_newton.hpp) on eq. 4 (path_energy.hpp).
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "deformation_enrichment/shape_space/damped_newton.hpp"
 #include "deformation_enrichment/shape_space/deformation_energy.hpp"
-#include "deformation_enrichment/shape_space/ghost_mesh.hpp"
+#include "deformation_enrichment/shape_space/evaluation_space.hpp"
 
 namespace deformation_enrichment::shape_space {
 
@@ -31,31 +33,19 @@ struct PathSolveReport {
   int evaluations = 0;  ///< evaluations of eq. 4, with derivatives or value only (each 2K energy passes)
   double gradientSquaredNorm = 0.0;  ///< at the end, as in the stopping rule
   double threshold = 0.0;            ///< the stopping rule's bound
-  bool converged = false;
+  MinimiserStatus status = MinimiserStatus::NotConverged;
+  bool converged = false;            ///< the rule was met, or no step lowers eq. 4 measurably (status RoundOff)
 };
 
-/// Eq. 4 of an open path; with `gradients`, d(eq. 4)/dx_k for every shape k (ends included). Shape
-/// pairs are evaluated in parallel (OpenMP), each pass then serially.
-double pathEnergy(const DeformationEnergy& energy, const std::vector<Eigen::VectorXd>& shapes,
-                  std::vector<Eigen::VectorXd>* gradients = nullptr);
-
-/// Reduced minimisation in place: shapes (ends fixed) become o_k + basis q_k with q minimising eq. 4, of
-/// `ghostEnergy` on the ghost shapes if `ghost` is given (energy then only checks sizes), else of `energy`.
-/// basis: 3V x d. Throws InvalidInputError for mismatched sizes, fewer than 3 shapes or an empty basis and
+/// Reduced minimisation in place: shapes (fine, ends fixed) become o_k + basis q_k with q minimising eq. 4
+/// of the space's energy on its evaluated shapes (the ghost mesh's, if it has one). basis: 3V x d (fine).
+/// Throws InvalidInputError for mismatched sizes, fewer than 3 shapes or an empty basis and
 /// NumericalError if eq. 4 is not finite at the start; an unmet stopping rule is reported (converged).
-PathSolveReport minimisePathEnergyReduced(const DeformationEnergy& energy, std::vector<Eigen::VectorXd>& shapes,
-                                          const Eigen::MatrixXd& basis, const GhostMesh* ghost,
-                                          const DeformationEnergy* ghostEnergy, const PathSolveOptions& options = {});
+PathSolveReport minimisePathEnergyReduced(const EvaluationSpace& space, std::vector<Eigen::VectorXd>& shapes,
+                                          const Eigen::MatrixXd& basis, const PathSolveOptions& options = {});
 
 /// Full-space damped Newton (Levenberg-Marquardt, Armijo) on eq. 4 in place. Same errors.
 PathSolveReport minimisePathEnergyFull(const DeformationEnergy& energy, std::vector<Eigen::VectorXd>& shapes,
                                        const PathSolveOptions& options = {});
-
-/// Subspace directions for a path (the flow tangents of eq. 9): v_k = -H_k^-1 d(eq. 4)/dx_k for the inner
-/// shapes, H_k = d1d1 W(x_k, x_k) + d2d2 W(x_k, x_k) = 2 d2d2 W(x_k, x_k) plus a small ridge (rigid null
-/// space). Measured on a
-/// small case: one metric shared by all shapes (the middle one's) left the reduced length 0.26 % off the
-/// full one after a round of enrichment, the per-shape metric 0.005 %.
-std::vector<Eigen::VectorXd> pathTangents(const DeformationEnergy& energy, const std::vector<Eigen::VectorXd>& shapes);
 
 }  // namespace deformation_enrichment::shape_space

@@ -4,6 +4,7 @@
 // joined by the rigid path itself (zero elastic energy), and plain linear blending's shrinkage is avoided.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <vector>
 
 namespace deformation_enrichment::shape_space {
 
@@ -18,6 +19,12 @@ RigidTransform kabsch(const Eigen::VectorXd& from, const Eigen::VectorXd& to);
 
 /// Applies a rigid motion to a flat 3V vector.
 Eigen::VectorXd applyRigid(const RigidTransform& motion, const Eigen::VectorXd& positions);
+
+/// `shape` with each piece (a list of vertex indices, e.g. a connected component) moved rigidly onto the same
+/// vertices of `target` (Kabsch per piece): the elastic energies do not see such motions. Throws
+/// InvalidInputError for sizes that differ or indices out of range.
+Eigen::VectorXd alignPieces(const Eigen::VectorXd& shape, const Eigen::VectorXd& target,
+                            const std::vector<std::vector<int>>& pieces);
 
 /// Shape at parameter t in [0, 1] between a and b: a's and b's centroids and orientations are blended
 /// (slerp), the shapes after alignment linearly. t = 0 gives a, t = 1 gives b exactly.

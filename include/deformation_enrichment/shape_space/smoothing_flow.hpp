@@ -3,7 +3,16 @@
 //   x_i <- A((1-rho) w_-, x_{i-1}, (1-rho)(1-tau), x_i, (1-rho) w_+, x_{i+1}, rho, input_i)   (eq. 2 + restoring)
 // with w_- = w_+ = tau/2 (fixed) or the proportion-preserving weights; open curves keep x_0 and x_m fixed,
 // closed curves wrap around. Every shape is updated from the previous iterate (Jacobi, as eq. 2 is
-// written), optionally in parallel. Step control: tau is halved until the path energy (eq. 4) decreases.
+// written), optionally in parallel.
+//
+// Step control: a step is accepted only if it lowers the path energy (eq. 4; of the ghost shapes if a ghost
+// mesh is used), with or without restoring force; otherwise tau is halved. An average that does not
+// converge (its last iterate is still a descent point of its objective) also halves tau; if no halving gives
+// a step whose averages all converge, the first eq. 4-lowering trial is accepted and its unconverged
+// averages are reported. If no tau lowers eq. 4 the step is stalled and the sequence stays: at a geodesic,
+// or (with a restoring force) where smoothing and restoring balance. The energy does not see rigid motions
+// of a shape's connected pieces, so after every step each piece is moved rigidly (Kabsch) onto its pose in
+// the input shape.
 #include <memory>
 #include <vector>
 
@@ -11,7 +20,7 @@
 
 #include "deformation_enrichment/shape_space/deformation_energy.hpp"
 #include "deformation_enrichment/shape_space/elastic_average.hpp"
-#include "deformation_enrichment/shape_space/ghost_mesh.hpp"
+#include "deformation_enrichment/shape_space/evaluation_space.hpp"
 #include "deformation_enrichment/shape_space/reduced_average.hpp"
 #include "deformation_enrichment/shape_space/shape_sequence.hpp"
 
@@ -32,14 +41,14 @@ struct FlowOptions {
   /// (reducedResidualSquaredNorm); geodesic() sets it for eq. 10. Off (default): eq. 4 decreases every
   /// accepted step, and the flow reports a stall instead.
   bool acceptResidualDecrease = false;
-  bool reduced = false;              ///< reduced (subspace + L-BFGS) instead of full-space Newton
-  int subspaceDimension = 16;        ///< PCA directions of the sequence (reduced mode)
-  int flowDirectionShapes = 20;      ///< below this many shapes, flow tangents enrich the subspace (paper: 20)
-  /// Reduced mode: approximate the reduced energies and gradients on a ghost mesh ([Brandt16 §6]) of the
-  /// first shape when the mesh has more than ghostMesh.targetVertices vertices. The averages, the step
-  /// control and the residuals then use the ghost energy; the shapes stay fine (same reduced coordinates).
-  bool useGhostMesh = true;
-  GhostMeshOptions ghostMesh;
+  /// Reduced mode, subspace size and ghost mesh ([Brandt16 §6]); full-space Newton by default.
+  ReductionOptions reduction;
+  /// Below this many shapes, the flow tangents (eq. 9) of all shapes enrich the shared subspace. [Brandt16 §6]
+  /// does this below 20 frames of a coarse curve (geodesic() does); on noisy captures the tangents are
+  /// dominated by the floppy bending modes of the noise and mix them into every shape (measured on a
+  /// 19-frame sydney.md2 clip with 0.2 % noise, 10 steps: vertex trajectories 1.06x rougher with them,
+  /// 0.24x without), so smoothing does not add them by default.
+  int flowDirectionShapes = 0;
   /// Solve the shapes' averages in parallel (OpenMP over shapes; meshes of >= 1000 vertices only). Needs
   /// an energy that is safe to call from several threads (DiscreteShells is). Off: the energy parallelises
   /// (but eq. 10 averages with aggregated references, see DeformationEnergy::weightedReferences, run serially).
@@ -54,22 +63,27 @@ struct FlowStep {
   int halvings = 0;
   bool stalled = false;     ///< no tau decreased the path energy: the sequence was left unchanged
   bool byResidual = false;  ///< accepted because the residual decreased (acceptResidualDecrease)
-  int solverIterations = 0; ///< Newton or L-BFGS iterations summed over the shapes (accepted trial)
+  int solverIterations = 0; ///< Newton or quasi-Newton iterations summed over the shapes (accepted trial)
+  /// Averages of the accepted trial that did not converge (their last iterates were used), and the largest
+  /// gradient norm among them (0 if all converged).
+  int unconvergedAverages = 0;
+  double unconvergedGradientNorm = 0.0;
+  bool converged() const { return !stalled && unconvergedAverages == 0; }
 };
 
 class SmoothingFlow {
 public:
   /// Validates the input (>= 3 shapes, same sizes, finite, non-degenerate), the options, and in reduced
-  /// mode builds the subspaces and preconditioners (the preprocess). Throws InvalidInputError.
+  /// mode builds the subspaces and warm starts (the preprocess). Throws InvalidInputError.
   SmoothingFlow(const DeformationEnergy& energy, ShapeSequence input, FlowOptions options);
 
-  /// One flow step with step control. Throws NumericalError if an average fails to converge.
+  /// One flow step with step control (see the header comment); never throws for non-convergence.
   FlowStep step();
 
   const ShapeSequence& current() const { return current_; }
   const FlowOptions& options() const { return options_; }
+  /// Eq. 4 on the fine mesh (including the closing segment for closed curves).
   double pathEnergy() const { return pathEnergy(current_.shapes); }
-  /// Eq. 4 (including the closing segment for closed curves).
   double pathEnergy(const std::vector<Eigen::VectorXd>& shapes) const;
   /// Left-hand side of eq. 3 per shape (zero vectors for the fixed ends of an open curve).
   std::vector<Eigen::VectorXd> pathGradient() const;
@@ -78,7 +92,7 @@ public:
   /// eq. 4 of the ghost shapes (the quantity the step control lowers with a ghost mesh); else pathEnergy().
   double controlledPathEnergy() const { return controlledPathEnergy(current_.shapes); }
   /// Vertices of the ghost mesh in use (0: none).
-  Eigen::Index ghostVertices() const { return ghost_ ? ghost_->numVertices() : 0; }
+  Eigen::Index ghostVertices() const { return space_.ghostVertices(); }
   /// Squared norm of the flow's own fixed-point residual, projected like reducedPathGradientSquaredNorm
   /// (on the ghost mesh if one is used):
   /// eq. 3 for the symmetric average (eq. 1); d2 E(x_{i-1}, x_i) + d2 E(x_{i+1}, x_i) for eq. 10, whose
@@ -94,34 +108,27 @@ public:
   void setCurrent(std::vector<Eigen::VectorXd> shapes);
 
 private:
-  std::vector<Eigen::VectorXd> trialStep(double tau, int* iterations) const;
+  struct Trial;
+  Trial trialStep(double tau) const;
+  /// Makes `shapes` (with eq. 4 `controlled`) the current ones, each piece moved rigidly onto its input pose.
+  void accept(std::vector<Eigen::VectorXd> shapes, double controlled);
+  AverageResult averageAt(int i, double tau, const std::vector<Eigen::VectorXd>& x,
+                          const std::vector<Eigen::VectorXd>& input) const;
   double controlledPathEnergy(const std::vector<Eigen::VectorXd>& shapes) const;
-  /// The energy and shapes the averages work on: the ghost's, or the fine ones.
-  const DeformationEnergy& evaluated() const { return ghostEnergy_ ? *ghostEnergy_ : energy_; }
-  std::vector<Eigen::VectorXd> evaluatedShapes(const std::vector<Eigen::VectorXd>& shapes) const;
   bool isFree(int i) const;
 
   const DeformationEnergy& energy_;
   ShapeSequence input_;
   ShapeSequence current_;
   FlowOptions options_;
+  EvaluationSpace space_;
   std::vector<char> restored_;
-  std::vector<ReducedSpace> spaces_;  ///< per shape (reduced mode), on the ghost mesh if one is used
+  std::vector<std::vector<int>> pieces_;  ///< connected components of the mesh (each keeps its input pose)
+  std::vector<ReducedSpace> spaces_;  ///< per shape (reduced mode), in the evaluation space
   std::shared_ptr<const Eigen::MatrixXd> fineBasis_;  ///< reduced mode: the shared basis on the fine mesh
   std::vector<Eigen::VectorXd> fineOrigins_;          ///< reduced mode: shape i = fineOrigins_[i] + B q
   double lastControlled_ = -1.0;  ///< controlledPathEnergy() of current_ after a step (< 0: unknown)
-  std::unique_ptr<GhostMesh> ghost_;
-  std::unique_ptr<DeformationEnergy> ghostEnergy_;
   std::vector<Eigen::VectorXd> extraDirections_;
 };
-
-/// Flow tangent of eq. 9 for every free shape: (d1d1 E(x,x) + d2d2 E(x,x)) v = 1/2 (eq. 3 LHS); zero
-/// vectors for fixed ends. Used to enrich subspaces of short sequences.
-std::vector<Eigen::VectorXd> flowTangents(const DeformationEnergy& energy, const std::vector<Eigen::VectorXd>& shapes,
-                                          bool closed);
-
-/// Eq. 3 LHS for shape i given its neighbours (either may be null at an open end).
-Eigen::VectorXd pathGradientAt(const DeformationEnergy& energy, const Eigen::VectorXd& x, const Eigen::VectorXd* prev,
-                               const Eigen::VectorXd* next);
 
 }  // namespace deformation_enrichment::shape_space

@@ -3,8 +3,35 @@
 #include <random>
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "deformation_enrichment/shape_space/deformation_energy.hpp"
 
 namespace deformation_enrichment::shape_space::test {
+
+/// Every output of one evaluation, for tests that compare them all at once.
+struct AllOutputs {
+  double value = 0.0;
+  Eigen::VectorXd gradientDeformed, gradientReference;
+  Eigen::SparseMatrix<double> hessianDeformed, hessianMixed, hessianReference;
+};
+
+/// All outputs of energy.evaluate in one call (value and gradients only if !withHessians).
+inline AllOutputs evaluateAll(const DeformationEnergy& energy, const Eigen::VectorXd& reference,
+                              const Eigen::VectorXd& deformed, bool withHessians = true) {
+  AllOutputs r;
+  EnergyOutputs outputs;
+  outputs.value = &r.value;
+  outputs.gradientDeformed = &r.gradientDeformed;
+  outputs.gradientReference = &r.gradientReference;
+  if (withHessians) {
+    outputs.hessianDeformed = &r.hessianDeformed;
+    outputs.hessianMixed = &r.hessianMixed;
+    outputs.hessianReference = &r.hessianReference;
+  }
+  energy.evaluate(reference, deformed, outputs);
+  return r;
+}
 
 struct FlatMesh {
   Eigen::Matrix3Xi triangles;

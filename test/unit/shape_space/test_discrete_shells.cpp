@@ -23,9 +23,6 @@ namespace {
 
 using Eigen::VectorXd;
 
-constexpr unsigned kAllOutputs = DiscreteShells::kValue | DiscreteShells::kGradientDeformed |
-                                 DiscreteShells::kGradientReference | DiscreteShells::kHessianDeformed |
-                                 DiscreteShells::kHessianMixed | DiscreteShells::kHessianReference;
 
 VectorXd rigidlyMoved(const VectorXd& shape, const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation) {
   VectorXd out(shape.size());
@@ -41,7 +38,7 @@ TEST(DiscreteShells, ZeroEnergyAndGradientsAtTheReference) {
   for (const auto& parameters : kModels) {
     for (const test::FlatMesh& mesh : {test::bumpyGrid(6, 1), test::octahedron()}) {
       const DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, parameters);
-      const ShellEvaluation r = energy.evaluate(mesh.vertices, mesh.vertices, kAllOutputs);
+      const test::AllOutputs r = test::evaluateAll(energy, mesh.vertices, mesh.vertices);
       EXPECT_NEAR(r.value, 0.0, 1e-13);
       EXPECT_LT(r.gradientDeformed.cwiseAbs().maxCoeff(), 1e-12);
       EXPECT_LT(r.gradientReference.cwiseAbs().maxCoeff(), 1e-12);
@@ -63,7 +60,7 @@ TEST(DiscreteShells, InvariantToRigidMotionsOfEitherArgument) {
     const DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, parameters);
     const VectorXd reference = mesh.vertices;
     const VectorXd deformed = test::perturbed(reference, 0.05, 9);
-    const ShellEvaluation base = energy.evaluate(reference, deformed, kAllOutputs);
+    const test::AllOutputs base = test::evaluateAll(energy, reference, deformed);
     ASSERT_GT(base.value, 1e-4);
     const VectorXd movedDeformed = rigidlyMoved(deformed, rotation, translation);
     const VectorXd movedReference = rigidlyMoved(reference, rotation.transpose(), -translation);
@@ -127,9 +124,9 @@ TEST(DiscreteShells, SerialAndParallelEvaluationsAgree) {
   DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, DiscreteShellsParameters::hyperelastic());
   const VectorXd deformed = test::perturbed(mesh.vertices, 0.03, 8);
   energy.setThreadCount(1);
-  const ShellEvaluation serial = energy.evaluate(mesh.vertices, deformed, kAllOutputs);
+  const test::AllOutputs serial = test::evaluateAll(energy, mesh.vertices, deformed);
   energy.setThreadCount(3);
-  const ShellEvaluation parallel = energy.evaluate(mesh.vertices, deformed, kAllOutputs);
+  const test::AllOutputs parallel = test::evaluateAll(energy, mesh.vertices, deformed);
   EXPECT_NEAR(serial.value, parallel.value, 1e-12 * serial.value);
   EXPECT_LT((serial.gradientDeformed - parallel.gradientDeformed).norm(), 1e-12 * serial.gradientDeformed.norm());
   EXPECT_LT((serial.gradientReference - parallel.gradientReference).norm(), 1e-12 * serial.gradientReference.norm());
@@ -144,7 +141,7 @@ TEST(DiscreteShells, SerialAndParallelEvaluationsAgree) {
   Eigen::VectorXd nestedGradient[2];
 #pragma omp parallel for num_threads(2)
   for (int i = 0; i < 2; ++i) {
-    const ShellEvaluation r = energy.evaluate(mesh.vertices, deformed, DiscreteShells::kValue | DiscreteShells::kGradientDeformed);
+    const test::AllOutputs r = test::evaluateAll(energy, mesh.vertices, deformed, false);
     nestedValue[i] = r.value;
     nestedGradient[i] = r.gradientDeformed;
   }
@@ -187,18 +184,18 @@ TEST(DiscreteShells, DirectionalDerivativesOnTheFingerPair) {
   const double h = 1e-6;
   for (const auto& parameters : kModels) {
     const DiscreteShells energy(finger0.triangles, finger0.numVertices(), parameters);
-    const ShellEvaluation r = energy.evaluate(reference, deformed, kAllOutputs);
+    const test::AllOutputs r = test::evaluateAll(energy, reference, deformed);
     auto relative = [](const VectorXd& a, const VectorXd& b) { return (a - b).norm() / b.norm(); };
     // Along the deformed argument.
-    const ShellEvaluation plus = energy.evaluate(reference, deformed + h * direction, kAllOutputs);
-    const ShellEvaluation minus = energy.evaluate(reference, deformed - h * direction, kAllOutputs);
+    const test::AllOutputs plus = test::evaluateAll(energy, reference, deformed + h * direction);
+    const test::AllOutputs minus = test::evaluateAll(energy, reference, deformed - h * direction);
     EXPECT_NEAR(r.gradientDeformed.dot(direction), (plus.value - minus.value) / (2 * h),
                 1e-6 * std::abs(r.gradientDeformed.dot(direction)));
     EXPECT_LT(relative(r.hessianDeformed * direction, (plus.gradientDeformed - minus.gradientDeformed) / (2 * h)), 1e-6);
     EXPECT_LT(relative(r.hessianMixed * direction, (plus.gradientReference - minus.gradientReference) / (2 * h)), 1e-6);
     // Along the reference argument.
-    const ShellEvaluation plusRef = energy.evaluate(reference + h * direction, deformed, kAllOutputs);
-    const ShellEvaluation minusRef = energy.evaluate(reference - h * direction, deformed, kAllOutputs);
+    const test::AllOutputs plusRef = test::evaluateAll(energy, reference + h * direction, deformed);
+    const test::AllOutputs minusRef = test::evaluateAll(energy, reference - h * direction, deformed);
     EXPECT_NEAR(r.gradientReference.dot(direction), (plusRef.value - minusRef.value) / (2 * h),
                 1e-6 * std::abs(r.gradientReference.dot(direction)));
     EXPECT_LT(relative(r.hessianReference * direction, (plusRef.gradientReference - minusRef.gradientReference) / (2 * h)),

@@ -1,8 +1,11 @@
-// DiscreteShells::weightedReferences: the aggregated eq. 10 objective equals the sum of the terms (value
-// and gradient), its gradient matches finite differences, and bad input is rejected.
+// DiscreteShells::weightedReferences: the aggregated eq. 10 objective equals the sum of the terms (value,
+// gradient and Hessian), its gradient matches finite differences, and bad input is rejected.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/shape_space/dihedral_angle.hpp"
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
 #include "shell_test_meshes.hpp"
 
@@ -10,22 +13,34 @@ namespace ss = deformation_enrichment::shape_space;
 namespace de = deformation_enrichment;
 using namespace ss::test;
 
+namespace {
+
+// Three perturbed copies of a mesh as the references of an average, with pointers for the interface.
+struct References {
+  References(const FlatMesh& mesh, double amplitude, unsigned seed)
+      : shapes{perturbed(mesh.vertices, amplitude, seed), perturbed(mesh.vertices, amplitude, seed + 1),
+               perturbed(mesh.vertices, amplitude, seed + 2)},
+        pointers{&shapes[0], &shapes[1], &shapes[2]} {}
+  std::vector<Eigen::VectorXd> shapes;
+  std::vector<const Eigen::VectorXd*> pointers;
+};
+
+}  // namespace
+
 TEST(WeightedReferences, EqualTheSumOfTermsForBothMembranesWithGradient) {
   const FlatMesh mesh = bumpyGrid(6, 4);
-  const std::vector<Eigen::VectorXd> refs{perturbed(mesh.vertices, 0.03, 1), perturbed(mesh.vertices, 0.03, 2),
-                                          perturbed(mesh.vertices, 0.03, 3)};
+  const References references(mesh, 0.03, 1);
   const std::vector<double> weights{0.25, 0.0, 0.6};
-  const std::vector<const Eigen::VectorXd*> pointers{&refs[0], &refs[1], &refs[2]};
   const Eigen::VectorXd y = perturbed(mesh.vertices, 0.04, 9);
   for (const auto& parameters : {ss::DiscreteShellsParameters::classic(), ss::DiscreteShellsParameters::hyperelastic(0.05)}) {
     const ss::DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, parameters);
     double sum = 0.0;
     Eigen::VectorXd gradientSum = Eigen::VectorXd::Zero(y.size());
-    for (size_t i = 0; i < refs.size(); ++i) {
-      sum += weights[i] * energy.value(refs[i], y);
-      gradientSum += weights[i] * energy.gradientDeformed(refs[i], y);
+    for (size_t i = 0; i < references.shapes.size(); ++i) {
+      sum += weights[i] * energy.value(references.shapes[i], y);
+      gradientSum += weights[i] * energy.gradientDeformed(references.shapes[i], y);
     }
-    const auto aggregated = energy.weightedReferences(weights, pointers);
+    const auto aggregated = energy.weightedReferences(weights, references.pointers);
     ASSERT_TRUE(aggregated);
     Eigen::VectorXd gradient;
     EXPECT_NEAR(aggregated->evaluate(y, &gradient), sum, 1e-11 * sum);
@@ -39,6 +54,59 @@ TEST(WeightedReferences, EqualTheSumOfTermsForBothMembranesWithGradient) {
       minus[i] -= h;
       const double fd = (aggregated->evaluate(plus, nullptr) - aggregated->evaluate(minus, nullptr)) / (2 * h);
       EXPECT_NEAR(gradient[i], fd, 1e-6 * std::max(1.0, std::abs(fd)));
+    }
+  }
+}
+
+// Noisy hinges (as on real captures): the references' dihedral angles spread by more than pi/2, where the
+// aggregated form Omega (theta - theta_star)^2 alone would be wrong (the energy wraps each difference).
+TEST(WeightedReferences, EqualTheSumOfTermsWhereReferenceAnglesSpreadWidely) {
+  const FlatMesh mesh = bumpyGrid(6, 4);
+  const References references(mesh, 0.12, 11);
+  const std::vector<double> weights{0.3, 0.45, 0.25};
+  const ss::DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, ss::DiscreteShellsParameters::classic());
+  int spread = 0;
+  for (const Eigen::Vector4i& h : energy.hinges()) {
+    const auto angle = [&h](const Eigen::VectorXd& r) {
+      return ss::dihedralAngle(r.segment<3>(3 * h[0]), r.segment<3>(3 * h[1]), r.segment<3>(3 * h[2]), r.segment<3>(3 * h[3]));
+    };
+    double lo = 10.0, hi = -10.0;
+    for (const auto& r : references.shapes) {
+      const double t = std::remainder(angle(r) - angle(references.shapes[0]), 2.0 * M_PI);
+      lo = std::min(lo, t);
+      hi = std::max(hi, t);
+    }
+    spread += hi - lo > 0.5 * M_PI ? 1 : 0;
+  }
+  ASSERT_GT(spread, 0) << "the references do not exercise widely spread hinges";
+  const auto aggregated = energy.weightedReferences(weights, references.pointers);
+  for (unsigned seed : {21u, 22u, 23u, 24u}) {
+    const Eigen::VectorXd y = perturbed(mesh.vertices, 0.12, seed);
+    double sum = 0.0;
+    Eigen::VectorXd gradientSum = Eigen::VectorXd::Zero(y.size());
+    for (size_t i = 0; i < references.shapes.size(); ++i) {
+      sum += weights[i] * energy.value(references.shapes[i], y);
+      gradientSum += weights[i] * energy.gradientDeformed(references.shapes[i], y);
+    }
+    Eigen::VectorXd gradient;
+    EXPECT_NEAR(aggregated->evaluate(y, &gradient), sum, 1e-11 * sum) << "seed " << seed;
+    EXPECT_LT((gradient - gradientSum).norm(), 1e-10 * gradientSum.norm()) << "seed " << seed;
+  }
+}
+
+TEST(WeightedReferences, HessianEqualsTheSumOfTheTermsHessians) {
+  const FlatMesh mesh = bumpyGrid(6, 4);
+  // Mild and wide-spread reference angles: both branches of the bending term.
+  for (double amplitude : {0.03, 0.12}) {
+    const References references(mesh, amplitude, 1);
+      const std::vector<double> weights{0.25, 0.15, 0.6};
+    const Eigen::VectorXd y = perturbed(mesh.vertices, amplitude, 9);
+    for (const auto& parameters : {ss::DiscreteShellsParameters::classic(), ss::DiscreteShellsParameters::hyperelastic(0.05)}) {
+      const ss::DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, parameters);
+      Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(y.size(), y.size());
+      for (size_t i = 0; i < references.shapes.size(); ++i) sum += weights[i] * Eigen::MatrixXd(energy.hessianDeformed(references.shapes[i], y));
+      const Eigen::MatrixXd aggregated(energy.weightedReferences(weights, references.pointers)->hessian(y));
+      EXPECT_LT((aggregated - sum).norm(), 1e-9 * sum.norm()) << "amplitude " << amplitude;
     }
   }
 }
@@ -61,4 +129,6 @@ TEST(WeightedReferences, BadInputGivesClearErrors) {
   EXPECT_THROW(aggregated->evaluate(flat, nullptr), de::InvalidInputError);
   EXPECT_THROW(aggregated->evaluate(nan, nullptr), de::InvalidInputError);
   EXPECT_THROW(aggregated->evaluate(shorter, nullptr), de::InvalidInputError);
+  EXPECT_THROW(aggregated->hessian(flat), de::InvalidInputError);
+  EXPECT_THROW(aggregated->hessian(nan), de::InvalidInputError);
 }

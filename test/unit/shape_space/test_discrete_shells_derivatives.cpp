@@ -70,10 +70,7 @@ TEST_P(ShellDerivatives, GradientsAndAllHessianBlocksMatchFiniteDifferences) {
   const VectorXd deformed = test::perturbed(reference, 0.08, 11);
   const double h = 1e-6;
 
-  const ShellEvaluation all = energy.evaluate(
-      reference, deformed,
-      DiscreteShells::kValue | DiscreteShells::kGradientDeformed | DiscreteShells::kGradientReference |
-          DiscreteShells::kHessianDeformed | DiscreteShells::kHessianMixed | DiscreteShells::kHessianReference);
+  const test::AllOutputs all = test::evaluateAll(energy, reference, deformed);
   EXPECT_NEAR(all.value, energy.value(reference, deformed), 1e-12 * std::abs(all.value));
   EXPECT_GT(energy.bendingValue(reference, deformed), 0.0);
 

@@ -16,11 +16,8 @@ namespace {
 
 using Eigen::VectorXd;
 
-constexpr unsigned kAllOutputs = DiscreteShells::kValue | DiscreteShells::kGradientDeformed |
-                                 DiscreteShells::kGradientReference | DiscreteShells::kHessianDeformed |
-                                 DiscreteShells::kHessianMixed | DiscreteShells::kHessianReference;
 
-bool allFinite(const ShellEvaluation& r) {
+bool allFinite(const test::AllOutputs& r) {
   auto finiteSparse = [](const Eigen::SparseMatrix<double>& m) {
     for (Eigen::Index k = 0; k < m.nonZeros(); ++k) {
       if (!std::isfinite(m.valuePtr()[k])) return false;
@@ -62,7 +59,7 @@ TEST(DiscreteShellsInput, EdgeWithThreeTrianglesIsSkippedForBending) {
   folded.segment<3>(6) << 0.5, 0.7, 0.7;  // fold the hinge
   EXPECT_GT(hingeEnergy.bendingValue(x, folded), 0.1);
   EXPECT_EQ(finEnergy.bendingValue(x, folded), 0.0);
-  const ShellEvaluation r = finEnergy.evaluate(x, folded, kAllOutputs);
+  const test::AllOutputs r = test::evaluateAll(finEnergy, x, folded);
   EXPECT_TRUE(allFinite(r));
   EXPECT_GT(r.value, 0.0);  // the membrane still sees the stretched triangle
 }
@@ -109,7 +106,7 @@ TEST(DiscreteShellsInput, FinOnAGridRemovesOnlyItsOwnHinge) {
   EXPECT_EQ(finned.numHinges(), plain.numHinges() - 1);
   EXPECT_EQ(finned.numNonManifoldEdges(), 1);
   EXPECT_EQ(plain.numBoundaryEdges(), 16);
-  EXPECT_TRUE(allFinite(finned.evaluate(vertices, test::perturbed(vertices, 0.05, 2), kAllOutputs)));
+  EXPECT_TRUE(allFinite(test::evaluateAll(finned, vertices, test::perturbed(vertices, 0.05, 2))));
 }
 
 TEST(DiscreteShellsInput, TriangleWindingDoesNotChangeTheEnergy) {
@@ -120,8 +117,8 @@ TEST(DiscreteShellsInput, TriangleWindingDoesNotChangeTheEnergy) {
     const DiscreteShells consistent(mesh.triangles, 36, parameters);
     const DiscreteShells mixed(flipped, 36, parameters);
     const VectorXd deformed = test::perturbed(mesh.vertices, 0.06, 3);
-    const ShellEvaluation a = consistent.evaluate(mesh.vertices, deformed, kAllOutputs);
-    const ShellEvaluation b = mixed.evaluate(mesh.vertices, deformed, kAllOutputs);
+    const test::AllOutputs a = test::evaluateAll(consistent, mesh.vertices, deformed);
+    const test::AllOutputs b = test::evaluateAll(mixed, mesh.vertices, deformed);
     EXPECT_NEAR(a.value, b.value, 1e-12 * a.value);
     EXPECT_LT((a.gradientDeformed - b.gradientDeformed).norm(), 1e-11 * a.gradientDeformed.norm());
     EXPECT_LT((a.hessianReference - b.hessianReference).norm(), 1e-11 * a.hessianReference.norm());
@@ -152,7 +149,7 @@ TEST(DiscreteShellsInput, NearlyDegenerateTrianglesStayFinite) {
     const DiscreteShells energy(triangles, 4, parameters);
     VectorXd deformed = x;
     deformed.segment<3>(6) << 0.5, 2e-6, 1e-6;
-    const ShellEvaluation r = energy.evaluate(x, deformed, kAllOutputs);
+    const test::AllOutputs r = test::evaluateAll(energy, x, deformed);
     EXPECT_TRUE(allFinite(r)) << "value " << r.value;
   }
 }

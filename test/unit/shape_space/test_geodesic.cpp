@@ -34,7 +34,7 @@ TEST(Geodesic, RigidlyMovedCopyIsJoinedByTheRigidPath) {
       ss::GeodesicOptions opt;
       opt.shapes = 5;
       opt.solver = solver;
-      opt.flow.reduced = reduced;
+      opt.reduction.reduced = reduced;
       const ss::GeodesicResult g = ss::geodesic(s.energy, s.base.triangles, s.a, b, opt);
       ASSERT_EQ(g.shapes.size(), 5u);
       EXPECT_LT(g.pathEnergy, 1e-12 * scale);
@@ -52,8 +52,8 @@ TEST(Geodesic, FlowShortensTheInterpolationAndSatisfiesTheStoppingRule) {
   ss::GeodesicOptions opt;
   opt.shapes = 5;
   opt.solver = ss::GeodesicSolver::Flow;
-  opt.flow.tau = 1.0;
-  opt.flow.symmetricAverage = true;  // eq. 1: the limit is the critical point of eq. 4 (constant speed)
+  opt.tau = 1.0;
+  opt.average.symmetric = true;  // eq. 1: the limit is the critical point of eq. 4 (constant speed)
   const ss::GeodesicResult g = ss::geodesic(s.energy, s.base.triangles, s.a, s.b, opt);
   EXPECT_TRUE(g.converged);
   std::vector<Eigen::VectorXd> linear;
@@ -74,13 +74,13 @@ TEST(Geodesic, FlowReducedAndFullLengthsAgreeWithinPointOnePercent) {
   ss::GeodesicOptions full;
   full.shapes = 5;
   full.solver = ss::GeodesicSolver::Flow;
-  full.flow.tau = 1.0;
+  full.tau = 1.0;
   // eq. 1 averaging: both modes then minimise eq. 4, so their lengths are comparable (with eq. 10 the
   // flow is not a gradient flow and the reduced limit is a different fixed point; [Brandt16 Table 2]).
-  full.flow.symmetricAverage = true;
+  full.average.symmetric = true;
   ss::GeodesicOptions reduced = full;
-  reduced.flow.reduced = true;
-  reduced.flow.subspaceDimension = 8;
+  reduced.reduction.reduced = true;
+  reduced.reduction.subspaceDimension = 8;
   reduced.enrichmentRounds = 1;  // measured: 0 rounds 0.18 %, 1 round well below 0.1 %
   const ss::GeodesicResult gf = ss::geodesic(s.energy, s.base.triangles, s.a, s.b, full);
   const ss::GeodesicResult gr = ss::geodesic(s.energy, s.base.triangles, s.a, s.b, reduced);
@@ -92,7 +92,7 @@ TEST(Geodesic, BezierCurveInterpolatesItsEndControlsAndReducesToTheGeodesic) {
   GeodesicSetup s;
   ss::GeodesicOptions opt;
   opt.shapes = 5;
-  opt.flow.tau = 1.0;
+  opt.tau = 1.0;
   opt.shapes = 3;
   const std::vector<Eigen::VectorXd> two{s.a, s.b};
   const auto line = ss::bezierCurve(s.energy, s.base.triangles, two, 3, opt);

@@ -5,6 +5,7 @@
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/shape_space/affine_subspace.hpp"
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
+#include "deformation_enrichment/shape_space/evaluation_space.hpp"
 #include "deformation_enrichment/shape_space/geodesic.hpp"
 #include "deformation_enrichment/shape_space/geodesic_path.hpp"
 #include "deformation_enrichment/shape_space/rigid_interpolation.hpp"
@@ -28,6 +29,10 @@ struct PathSetup {
     for (int k = 0; k < count; ++k) path.push_back(ss::rigidAwareInterpolation(a, b, k / double(count - 1)));
     return path;
   }
+  /// Energies evaluated on the mesh itself (no ghost mesh).
+  ss::EvaluationSpace exactSpace(const std::vector<Eigen::VectorXd>& path) const {
+    return ss::EvaluationSpace(energy, base.triangles, path.front(), ss::ReductionOptions{});
+  }
 };
 
 double innerSquaredNorm(const std::vector<Eigen::VectorXd>& g) {
@@ -43,7 +48,7 @@ TEST(GeodesicPath, PathEnergyGradientMatchesFiniteDifferences) {
   std::vector<Eigen::VectorXd> path = s.interpolation(4);
   for (size_t k = 1; k < 3; ++k) path[k] = perturbed(path[k], 0.01, unsigned(k));
   std::vector<Eigen::VectorXd> gradients;
-  const double e0 = ss::pathEnergy(s.energy, path, &gradients);
+  const double e0 = ss::pathEnergy(s.energy, path, false, &gradients);
   EXPECT_NEAR(e0, ss::pathEnergy(s.energy, path), 1e-14 * e0);
   const double h = 1e-6;
   for (size_t k = 0; k < path.size(); ++k) {
@@ -57,7 +62,7 @@ TEST(GeodesicPath, PathEnergyGradientMatchesFiniteDifferences) {
   }
 }
 
-// pathTangents, flowTangents and the reduced Hessian model rely on d1d1 W(x, x) = d2d2 W(x, x) = -d1d2 W(x, x).
+// flowTangents and the reduced Hessian model rely on d1d1 W(x, x) = d2d2 W(x, x) = -d1d2 W(x, x).
 TEST(GeodesicPath, HessianBlocksAgreeAtTheIdentity) {
   const FlatMesh mesh = bumpyGrid(6, 8);
   for (const auto& parameters : {ss::DiscreteShellsParameters::classic(), ss::DiscreteShellsParameters::hyperelastic()}) {
@@ -79,7 +84,7 @@ TEST(GeodesicPath, FullNewtonReachesAStationaryPathBelowTheInitialAndTheFlows) {
   EXPECT_TRUE(report.converged);
   EXPECT_LE(report.gradientSquaredNorm, report.threshold);
   std::vector<Eigen::VectorXd> gradients;
-  const double minimised = ss::pathEnergy(s.energy, path, &gradients);
+  const double minimised = ss::pathEnergy(s.energy, path, false, &gradients);
   EXPECT_LT(minimised, 0.99 * initial);
   // Stationary: eq. 3 holds at every inner shape (the rule's bound: 1e-8 per degree of freedom).
   EXPECT_LE(innerSquaredNorm(gradients), 1e-8 * double(3 * path[0].size()));
@@ -89,8 +94,8 @@ TEST(GeodesicPath, FullNewtonReachesAStationaryPathBelowTheInitialAndTheFlows) {
   flow.shapes = 5;
   flow.solver = ss::GeodesicSolver::Flow;
   flow.insertPerSegment = 3;  // straight to 5 shapes, like the direct solve
-  flow.flow.tau = 1.0;
-  flow.flow.symmetricAverage = true;
+  flow.tau = 1.0;
+  flow.average.symmetric = true;
   const ss::GeodesicResult g = ss::geodesic(s.energy, s.base.triangles, s.a, s.b, flow);
   EXPECT_LE(minimised, g.pathEnergy * (1.0 + 1e-9));
   EXPECT_NEAR(minimised, g.pathEnergy, 1e-3 * minimised);  // and both find the same geodesic
@@ -101,13 +106,13 @@ TEST(GeodesicPath, ReducedSolveMeetsTheReducedStoppingRule) {
   std::vector<Eigen::VectorXd> path = s.interpolation(5);
   const double initial = ss::pathEnergy(s.energy, path);
   ss::AffineSubspace subspace = ss::pcaSubspace(path, 8);
-  ss::enrich(subspace, ss::pathTangents(s.energy, path));
-  const ss::PathSolveReport report = ss::minimisePathEnergyReduced(s.energy, path, subspace.basis, nullptr, nullptr);
+  ss::enrich(subspace, ss::flowTangents(s.energy, path, false));
+  const ss::PathSolveReport report = ss::minimisePathEnergyReduced(s.exactSpace(path), path, subspace.basis);
   EXPECT_TRUE(report.converged);
   EXPECT_GT(report.iterations, 0);
   // Recompute the reduced gradient independently: sum_k |B^T d(eq. 4)/dx_k|^2.
   std::vector<Eigen::VectorXd> gradients;
-  const double minimised = ss::pathEnergy(s.energy, path, &gradients);
+  const double minimised = ss::pathEnergy(s.energy, path, false, &gradients);
   double reduced = 0.0;
   for (size_t k = 1; k + 1 < path.size(); ++k) reduced += (subspace.basis.transpose() * gradients[k]).squaredNorm();
   EXPECT_LE(reduced, report.threshold * 1.0001);
@@ -120,8 +125,8 @@ TEST(GeodesicPath, ReducedAndFullLengthsAgreeWithinPointOnePercent) {
   ss::GeodesicOptions full;
   full.shapes = 8;
   ss::GeodesicOptions reduced = full;
-  reduced.flow.reduced = true;
-  reduced.flow.subspaceDimension = 8;
+  reduced.reduction.reduced = true;
+  reduced.reduction.subspaceDimension = 8;
   const ss::GeodesicResult gf = ss::geodesic(s.energy, s.base.triangles, s.a, s.b, full);
   const ss::GeodesicResult gr = ss::geodesic(s.energy, s.base.triangles, s.a, s.b, reduced);
   EXPECT_TRUE(gf.converged);
@@ -138,12 +143,12 @@ TEST(GeodesicPath, GhostMeshApproximatesTheReducedGeodesic) {
   const Eigen::VectorXd a = bent(base.vertices, 0.3), b = bent(base.vertices, 2.0, 0.1);
   ss::GeodesicOptions exact;
   exact.shapes = 5;
-  exact.flow.reduced = true;
-  exact.flow.subspaceDimension = 8;
-  exact.flow.useGhostMesh = false;
+  exact.reduction.reduced = true;
+  exact.reduction.subspaceDimension = 8;
+  exact.reduction.useGhostMesh = false;
   ss::GeodesicOptions ghost = exact;
-  ghost.flow.useGhostMesh = true;
-  ghost.flow.ghostMesh.targetVertices = 200;
+  ghost.reduction.useGhostMesh = true;
+  ghost.reduction.ghostMesh.targetVertices = 200;
   const ss::GeodesicResult ge = ss::geodesic(energy, base.triangles, a, b, exact);
   const ss::GeodesicResult gg = ss::geodesic(energy, base.triangles, a, b, ghost);
   EXPECT_EQ(ge.ghostVertices, 0);
@@ -163,9 +168,9 @@ TEST(GeodesicPath, BadInputGivesClearErrors) {
   std::vector<Eigen::VectorXd> two{s.a, s.b};
   EXPECT_THROW(ss::minimisePathEnergyFull(s.energy, two), de::InvalidInputError);
   std::vector<Eigen::VectorXd> path = s.interpolation(4);
-  EXPECT_THROW(ss::minimisePathEnergyReduced(s.energy, path, Eigen::MatrixXd(path[0].size(), 0), nullptr, nullptr),
+  EXPECT_THROW(ss::minimisePathEnergyReduced(s.exactSpace(path), path, Eigen::MatrixXd(path[0].size(), 0)),
                de::InvalidInputError);
-  EXPECT_THROW(ss::minimisePathEnergyReduced(s.energy, path, Eigen::MatrixXd::Ones(7, 2), nullptr, nullptr),
+  EXPECT_THROW(ss::minimisePathEnergyReduced(s.exactSpace(path), path, Eigen::MatrixXd::Ones(7, 2)),
                de::InvalidInputError);
   path[2][5] = std::nan("");
   EXPECT_THROW(ss::minimisePathEnergyFull(s.energy, path), de::InvalidInputError);

@@ -155,12 +155,12 @@ TEST(GhostMesh, ReducedFlowStepOnTheGhostLowersTheFinePathEnergyLikeTheExactStep
   energy.setThreadCount(1);
   const ss::ShapeSequence input{base.triangles, noisyBending(base, 6, 0.3, 1.5, 0.004, 3)};
   ss::FlowOptions exact;
-  exact.reduced = true;
-  exact.subspaceDimension = 6;
-  exact.useGhostMesh = false;
+  exact.reduction.reduced = true;
+  exact.reduction.subspaceDimension = 6;
+  exact.reduction.useGhostMesh = false;
   ss::FlowOptions ghost = exact;
-  ghost.useGhostMesh = true;
-  ghost.ghostMesh.targetVertices = 200;
+  ghost.reduction.useGhostMesh = true;
+  ghost.reduction.ghostMesh.targetVertices = 200;
   ss::SmoothingFlow exactFlow(energy, input, exact), ghostFlow(energy, input, ghost);
   EXPECT_EQ(exactFlow.ghostVertices(), 0);
   EXPECT_GT(ghostFlow.ghostVertices(), 150);
@@ -171,7 +171,7 @@ TEST(GhostMesh, ReducedFlowStepOnTheGhostLowersTheFinePathEnergyLikeTheExactStep
     const ss::FlowStep step = ghostFlow.step();
     EXPECT_FALSE(step.stalled);
     EXPECT_LT(step.pathEnergy, controlled);  // the step control lowers the ghost's eq. 4
-    EXPECT_DOUBLE_EQ(step.pathEnergy, ghostFlow.controlledPathEnergy());
+    EXPECT_NEAR(step.pathEnergy, ghostFlow.controlledPathEnergy(), 1e-12 * step.pathEnergy);  // the shapes moved rigidly since
     exactFlow.step();
   }
   const double exactDrop = before - exactFlow.pathEnergy(), ghostDrop = before - ghostFlow.pathEnergy();

@@ -51,6 +51,8 @@ TEST(ShapeSpaceTools, SmoothAndGeodesicWriteMeshesAndJson) {
   ASSERT_EQ(status, 0) << smoothJson;
   const auto smooth = nlohmann::json::parse(smoothJson);
   ASSERT_EQ(smooth["path_energy"].size(), 3u);
+  EXPECT_EQ(smooth["status"], "converged");
+  EXPECT_EQ(smooth["accepted_steps"].get<int>(), 2);
   EXPECT_LT(smooth["path_energy"][2].get<double>(), smooth["path_energy"][0].get<double>());
   EXPECT_GT(smooth["seconds"].get<double>(), 0.0);
   for (size_t i = 0; i < shapes.size(); ++i) EXPECT_TRUE(fs::exists(dir / "smooth" / ("frame" + std::to_string(i) + ".obj")));
@@ -63,6 +65,17 @@ TEST(ShapeSpaceTools, SmoothAndGeodesicWriteMeshesAndJson) {
   EXPECT_GT(geo["length"].get<double>(), 0.0);
   EXPECT_GT(geo["path_energy"].get<double>(), 0.0);
   EXPECT_TRUE(fs::exists(dir / "geo" / "geodesic_003.obj"));
+
+  // Copies of one shape: eq. 4 = 0, nothing to smooth, no step is accepted: exit status 3, the input written.
+  // (Full space: in reduced mode copies span no subspace, an error. Rigidly moved copies written to OBJ are
+  // not exact copies after float rounding, so the flow would smooth that rounding.)
+  std::string copies;
+  for (int i = 0; i < 3; ++i) copies += " " + (dir / "frame0.obj").string();
+  const std::string stalled = run(tool("de_smooth") + " --input" + copies + " --output " + (dir / "stalled").string() +
+                                      " --iterations 2 --full --json", &status);
+  EXPECT_EQ(WEXITSTATUS(status), 3) << stalled;
+  EXPECT_EQ(nlohmann::json::parse(stalled)["status"], "nothing_accepted");
+  EXPECT_TRUE(fs::exists(dir / "stalled" / "frame0.obj"));
 
   // Bad input: two shapes are not a sequence; the tool fails with a non-zero status and no JSON.
   const std::string bad = run(tool("de_smooth") + " --input " + (dir / "frame0.obj").string() + " " +

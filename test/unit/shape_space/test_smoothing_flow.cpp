@@ -7,6 +7,7 @@
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
+#include "deformation_enrichment/shape_space/path_energy.hpp"
 #include "deformation_enrichment/shape_space/smoothing_flow.hpp"
 #include "flow_test_sequences.hpp"
 
@@ -40,8 +41,8 @@ TEST(SmoothingFlow, PathEnergyDecreasesEveryStep) {
     opt.tau = 0.8;
     if (variant == 1) opt.weights = ss::FlowWeights::ProportionPreserving;
     if (variant == 2) {
-      opt.reduced = true;
-      opt.subspaceDimension = 6;
+      opt.reduction.reduced = true;
+      opt.reduction.subspaceDimension = 6;
     }
     ss::SmoothingFlow flow(s.energy, s.sequence(7, 0.02), opt);
     double previous = flow.pathEnergy();
@@ -166,6 +167,36 @@ TEST(SmoothingFlow, ProportionPreservingWeightsKeepSegmentRatios) {
   EXPECT_LT(std::abs(std::log(after[1] / original)), 0.5 * std::abs(std::log(after[0] / original)));
 }
 
+// A frame that is a rigid copy of its neighbour costs nothing (rigid invariance): the flow runs as usual.
+// A sequence of rigid copies of one shape has eq. 4 = 0, so no step can lower it: every step stalls and
+// the (finite) input stays.
+TEST(SmoothingFlow, RigidCopiesAreNothingToSmooth) {
+  FlowSetup s;
+  ss::ShapeSequence input = s.sequence(5, 0.01);
+  input.shapes[2] = moved(input.shapes[1], someRotation(0.4), Eigen::Vector3d(0.3, -0.2, 0.1));
+  for (bool reduced : {false, true}) {
+    ss::FlowOptions opt;
+    opt.reduction.reduced = reduced;
+    ss::SmoothingFlow flow(s.energy, input, opt);
+    const double before = flow.pathEnergy();
+    const ss::FlowStep step = flow.step();
+    EXPECT_FALSE(step.stalled) << "reduced " << reduced;
+    EXPECT_LT(flow.pathEnergy(), before);
+  }
+  ss::ShapeSequence copies = input;
+  for (size_t i = 0; i < copies.shapes.size(); ++i)
+    copies.shapes[i] = moved(input.shapes[1], someRotation(0.3 * double(i)), Eigen::Vector3d(0.1 * double(i), 0.0, 0.0));
+  for (bool reduced : {false, true}) {
+    ss::FlowOptions opt;
+    opt.reduction.reduced = reduced;
+    ss::SmoothingFlow flow(s.energy, copies, opt);
+    EXPECT_NEAR(flow.pathEnergy(), 0.0, 1e-20);
+    const ss::FlowStep step = flow.step();
+    EXPECT_TRUE(step.stalled) << "reduced " << reduced;
+    for (size_t i = 0; i < copies.shapes.size(); ++i) EXPECT_EQ(flow.current().shapes[i], copies.shapes[i]);
+  }
+}
+
 TEST(SmoothingFlow, BadInputGivesClearErrors) {
   FlowSetup s;
   ss::ShapeSequence two = s.sequence(3, 0.0);
@@ -183,4 +214,13 @@ TEST(SmoothingFlow, BadInputGivesClearErrors) {
   opt.tau = 0.5;
   opt.rho = 1.0;
   EXPECT_THROW(ss::SmoothingFlow(s.energy, s.sequence(4, 0.0), opt), de::InvalidInputError);
+  ss::ShapeSequence flat = s.sequence(4, 0.0);  // a triangle collapsed exactly onto a line
+  const Eigen::Vector3i t = flat.triangles.col(0);
+  flat.shapes[1].segment<3>(3 * t[2]) = 0.5 * (flat.shapes[1].segment<3>(3 * t[0]) + flat.shapes[1].segment<3>(3 * t[1]));
+  try {
+    ss::SmoothingFlow(s.energy, flat, {});
+    FAIL() << "degenerate triangle accepted";
+  } catch (const de::InvalidInputError& e) {
+    EXPECT_NE(std::string(e.what()).find("shape 1"), std::string::npos) << e.what();
+  }
 }

@@ -1,4 +1,4 @@
-#include "deformation_enrichment/shape_space/md2_reader.hpp"
+#include "deformation_enrichment/mesh/md2_reader.hpp"
 
 #include <array>
 #include <cstdint>
@@ -8,7 +8,7 @@
 
 #include "deformation_enrichment/error.hpp"
 
-namespace deformation_enrichment::shape_space {
+namespace deformation_enrichment::mesh {
 namespace {
 
 // The MD2 header: magic "IDP2", version 8, then counts and byte offsets (all little-endian int32).
@@ -91,7 +91,7 @@ Md2Animation readMd2(const std::string& path) {
     if (!scale.allFinite() || !translate.allFinite()) fail("frame " + std::to_string(f) + " has a non-finite scale");
     const char* name = reinterpret_cast<const char*>(bytes.data() + base + 24);
     animation.frameNames.emplace_back(name, strnlen(name, 16));
-    mesh::TriangleMesh frame;
+    TriangleMesh frame;
     frame.triangles = triangleMatrix;
     frame.vertices.resize(3, numUsed);
     for (int v = 0; v < h.numVertices; ++v) {
@@ -105,4 +105,4 @@ Md2Animation readMd2(const std::string& path) {
   return animation;
 }
 
-}  // namespace deformation_enrichment::shape_space
+}  // namespace deformation_enrichment::mesh
