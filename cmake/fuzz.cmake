@@ -22,7 +22,7 @@ set(DE_FUZZ_FLAGS -O1 -g -fno-omit-frame-pointer -UNDEBUG -D_GLIBCXX_ASSERTIONS 
 file(GLOB DE_FUZZ_CORE_SOURCES CONFIGURE_DEPENDS
   ${PROJECT_SOURCE_DIR}/src/mesh/*.cpp ${PROJECT_SOURCE_DIR}/src/hermite/*.cpp ${PROJECT_SOURCE_DIR}/src/examples/*.cpp)
 list(APPEND DE_FUZZ_CORE_SOURCES
-  ${PROJECT_SOURCE_DIR}/src/acquisition/plan_io.cpp ${PROJECT_SOURCE_DIR}/src/shape_space/md2_reader.cpp)
+  ${PROJECT_SOURCE_DIR}/src/acquisition/plan_io.cpp)
 
 add_library(de_fuzz_core STATIC ${DE_FUZZ_CORE_SOURCES})
 target_compile_options(de_fuzz_core PRIVATE ${DE_FUZZ_FLAGS} -fsanitize=fuzzer-no-link)

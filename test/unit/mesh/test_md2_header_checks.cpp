@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "deformation_enrichment/error.hpp"
-#include "deformation_enrichment/shape_space/md2_reader.hpp"
+#include "deformation_enrichment/mesh/md2_reader.hpp"
 
 using namespace deformation_enrichment;
 
@@ -36,7 +36,7 @@ TEST(Md2HeaderChecks, FrameSizeIsComparedWithoutOverflow) {
   const auto wrapped = static_cast<std::int32_t>(static_cast<std::uint32_t>(40u + 4u * std::uint32_t(vertices)));
   const std::string path = writeMd2({64, 64, wrapped, 0, vertices, 0, 1, 0, 1, 68, 68, 68, 80, 80, 80}, 12);
   try {
-    shape_space::readMd2(path);
+    mesh::readMd2(path);
     ADD_FAILURE() << "accepted";
   } catch (const IoError& e) {
     EXPECT_NE(std::string(e.what()).find("frame size does not match the vertex count"), std::string::npos) << e.what();
