@@ -116,5 +116,6 @@ if(CATKIN_ENABLE_TESTING)
   de_rostest_gtest(test_recorded_sequence test/ros/recorded_sequence.test SOURCES test/ros/test_recorded_sequence.cpp
     DEPENDS enrichment_node)
   de_rostest_gtest(test_shape_space_server test/ros/shape_space_server.test SOURCES test/ros/test_shape_space_server.cpp
+    test/unit/shape_space/real_sequences.hpp
     DEPENDS ${DE_NODE_TARGETS})
 endif()
