@@ -6,10 +6,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <functional>
-#include <iomanip>
-#include <sstream>
+#include <ostream>
 
 #include "deformation_enrichment/elasticity/quasi_static_solver.hpp"
 #include "deformation_enrichment/elasticity/tet_fem.hpp"
@@ -25,12 +23,6 @@ namespace deformation_enrichment::acquisition {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r");
-  if (b == std::string::npos) return "";
-  return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
-}
 
 PlanEntry entry(double x, double y, double depth, double dx, double dy) {
   PlanEntry e;
@@ -108,53 +100,6 @@ double solvePath(const Body& body, const PlanEntry& e, const SlabAcquisitionOpti
 }
 
 }  // namespace
-
-std::vector<PlanEntry> readPlan(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw IoError(path + ": cannot open plan");
-  std::vector<PlanEntry> plan;
-  std::string line;
-  for (int number = 1; std::getline(in, line); ++number) {
-    line = trim(line);
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<double> v;
-    std::stringstream fields(line);
-    std::string field;
-    while (std::getline(fields, field, ',')) {
-      field = trim(field);
-      std::size_t used = 0;
-      double value = 0.0;
-      try {
-        value = std::stod(field, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used == 0 || used != field.size()) throw IoError(path + ":" + std::to_string(number) + ": '" + field + "' is not a number");
-      if (!std::isfinite(value)) throw IoError(path + ":" + std::to_string(number) + ": non-finite value");
-      v.push_back(value);
-    }
-    if (v.size() != 7)
-      throw IoError(path + ":" + std::to_string(number) + ": expected 7 fields x,y,z,depth,dx,dy,dz, got " + std::to_string(v.size()));
-    if (v[3] < 0.0) throw IoError(path + ":" + std::to_string(number) + ": negative indentation depth");
-    PlanEntry e;
-    e.point = Eigen::Vector3d(v[0], v[1], v[2]);
-    e.depth = v[3];
-    e.drag = Eigen::Vector3d(v[4], v[5], v[6]);
-    plan.push_back(e);
-  }
-  if (plan.empty()) throw IoError(path + ": no interaction in the plan");
-  return plan;
-}
-
-void writePlan(const std::string& path, const std::vector<PlanEntry>& plan) {
-  std::ofstream out(path);
-  if (!out) throw IoError(path + ": cannot write plan");
-  out << "# x,y,z,depth,dx,dy,dz (m)\n" << std::setprecision(9);
-  for (const PlanEntry& e : plan)
-    out << e.point.x() << ',' << e.point.y() << ',' << e.point.z() << ',' << e.depth << ',' << e.drag.x() << ','
-        << e.drag.y() << ',' << e.drag.z() << '\n';
-  if (!out) throw IoError(path + ": failed while writing");
-}
 
 void applyResolutionMetadata(const examples::ExampleSet& set, SlabAcquisitionOptions& options) {
   const std::map<std::string, double>& material = set.metadata.material;

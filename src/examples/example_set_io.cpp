@@ -200,21 +200,10 @@ void saveExampleSet(const ExampleSet& set, const std::string& directory) {
   writeFileAtomically(dir / kManifestFile, text.data(), text.size());
 }
 
-ExampleSet loadExampleSet(const std::string& directory) {
-  if (!hostIsLittleEndian()) throw IoError(directory + ": example sets are little-endian; big-endian hosts are not supported");
-  const fs::path dir(directory);
-  const std::string manifestPath = (dir / kManifestFile).string();
-  const ManifestReader r(manifestPath);
+namespace {
 
-  std::ifstream manifestStream(manifestPath);
-  if (!manifestStream) throw IoError(manifestPath + ": cannot open (missing manifest?)");
-  json manifest;
-  try {
-    manifest = json::parse(manifestStream);
-  } catch (const json::exception& e) {
-    r.fail(std::string("not valid JSON: ") + e.what());
-  }
-
+// The manifest's header: format, version, units and set metadata.
+void readHeader(const ManifestReader& r, const json& manifest, ExampleSetMetadata& metadata) {
   if (r.string(manifest, "format", "manifest") != kExampleSetFormatName) r.fail("format is not " + std::string(kExampleSetFormatName));
   const int version = r.integer(manifest, "format_version", "manifest");
   if (version != kExampleSetFormatVersion)
@@ -224,14 +213,15 @@ ExampleSet loadExampleSet(const std::string& directory) {
   const json& units = r.field(manifest, "units", "manifest");
   if (r.string(units, "length", "manifest.units") != "m") r.fail("units.length must be \"m\"");
   if (r.string(units, "stamp_displacement", "manifest.units") != "m") r.fail("units.stamp_displacement must be \"m\"");
-
-  ExampleSet set;
-  set.metadata.scene = r.string(manifest, "scene", "manifest");
-  set.metadata.description = r.string(manifest, "description", "manifest");
+  metadata.scene = r.string(manifest, "scene", "manifest");
+  metadata.description = r.string(manifest, "description", "manifest");
   const json& material = r.field(manifest, "material", "manifest");
   if (!material.is_object()) r.fail("field manifest.material is not an object");
-  for (const auto& item : material.items()) set.metadata.material[item.key()] = r.number(material, item.key(), "manifest.material");
+  for (const auto& item : material.items()) metadata.material[item.key()] = r.number(material, item.key(), "manifest.material");
+}
 
+// The blob's description in the manifest against the blob itself: size first, then checksum.
+void checkBlob(const ManifestReader& r, const json& manifest, std::string_view blob, const std::string& blobPath) {
   const json& blobInfo = r.field(manifest, "stamp_blob", "manifest");
   if (r.string(blobInfo, "file", "manifest.stamp_blob") != kStampBlobFile) r.fail("stamp_blob.file must be " + std::string(kStampBlobFile));
   if (r.string(blobInfo, "dtype", "manifest.stamp_blob") != "float32_le") r.fail("stamp_blob.dtype must be float32_le");
@@ -239,80 +229,105 @@ ExampleSet loadExampleSet(const std::string& directory) {
   if (!sizeField.is_number_unsigned()) r.fail("field manifest.stamp_blob.size_bytes is not a non-negative integer");
   const std::uint64_t declaredSize = sizeField.get<std::uint64_t>();
   const std::string declaredHash = r.string(blobInfo, "fnv1a64", "manifest.stamp_blob");
-
-  const json& examples = r.field(manifest, "examples", "manifest");
-  if (!examples.is_array() || examples.empty()) r.fail("field manifest.examples is not a non-empty array");
-
-  // Blob: size first (cheap, catches truncation), then checksum, then per-example values.
-  const std::string blobPath = (dir / kStampBlobFile).string();
-  std::error_code ec;
-  const std::uintmax_t actualSize = fs::file_size(blobPath, ec);
-  if (ec) throw IoError(blobPath + ": cannot open (missing stamp blob?)");
-  if (actualSize != declaredSize)
-    throw IoError(blobPath + ": size " + std::to_string(actualSize) + " bytes, manifest says " + std::to_string(declaredSize) +
+  if (blob.size() != declaredSize)
+    throw IoError(blobPath + ": size " + std::to_string(blob.size()) + " bytes, manifest says " + std::to_string(declaredSize) +
                   " (truncated or extended)");
-  std::vector<char> blob(static_cast<std::size_t>(actualSize));
-  {
-    std::ifstream in(blobPath, std::ios::binary);
-    if (!in || !in.read(blob.data(), static_cast<std::streamsize>(blob.size())))
-      throw IoError(blobPath + ": read failed");
-  }
   const std::string actualHash = hex64(fnv1a64(blob.data(), blob.size()));
   if (actualHash != declaredHash)
     throw IoError(blobPath + ": checksum mismatch (fnv1a64 " + actualHash + ", manifest says " + declaredHash + ")");
+}
 
-  std::uint64_t expectedOffset = 0;
-  for (std::size_t i = 0; i < examples.size(); ++i) {
-    const std::string p = "manifest.examples[" + std::to_string(i) + "]";
-    const json& e = examples[i];
-    Example ex;
-    const std::vector<double> c = r.numbers(r.field(e, "contact", p), p + ".contact", 3);
-    ex.contact = Eigen::Vector3d(c[0], c[1], c[2]);
-    const json& rows = r.field(e, "frame_rows", p);
-    if (!rows.is_array() || rows.size() != 3) r.fail("field " + p + ".frame_rows is not 3 rows");
-    for (int row = 0; row < 3; ++row) {
-      const std::vector<double> v = r.numbers(rows[row], p + ".frame_rows[" + std::to_string(row) + "]", 3);
-      for (int col = 0; col < 3; ++col) ex.frame(row, col) = v[col];
-    }
-    ex.rho = r.moments(e, "rho", p);
-    ex.mu = r.moments(e, "mu", p);
-    if (ex.rho.channels() != 1) r.fail("field " + p + ".rho must have 1 channel");
-    if (ex.mu.channels() != 3) r.fail("field " + p + ".mu must have 3 channels");
-    if (i > 0 && (!sameLayout(ex.rho, set.examples[0].rho) || !sameLayout(ex.mu, set.examples[0].mu)))
-      r.fail("field " + p + " has descriptor orders that differ from example 0");
-    ex.stampRadius = r.number(e, "stamp_radius", p);
-    const int stampRows = r.integer(e, "stamp_rows", p);
-    const int stampCols = r.integer(e, "stamp_cols", p);
-    if (stampRows < 2 || stampCols < 2 || stampRows > 4096 || stampCols > 4096)
-      r.fail("field " + p + " stamp size " + std::to_string(stampRows) + "x" + std::to_string(stampCols) + " outside [2, 4096]");
-    // eq. (16) blends stamps node by node, so a set shares one grid: same size and radius.
-    if (i > 0 && (stampRows != set.examples[0].stamp.rows || stampCols != set.examples[0].stamp.cols))
-      r.fail("field " + p + " stamp size differs from example 0 (a set shares one stamp grid)");
-    if (i > 0 && std::abs(ex.stampRadius - set.examples[0].stampRadius) > 1e-9 * std::abs(set.examples[0].stampRadius))
-      r.fail("field " + p + ".stamp_radius differs from example 0 (a set shares one stamp grid)");
-    const json& offsetField = r.field(e, "stamp_offset_bytes", p);
-    if (!offsetField.is_number_unsigned() || offsetField.get<std::uint64_t>() != expectedOffset)
-      r.fail("field " + p + ".stamp_offset_bytes is not " + std::to_string(expectedOffset) + " (stamps must be packed in order)");
-    const std::uint64_t bytes = static_cast<std::uint64_t>(stampRows) * static_cast<std::uint64_t>(stampCols) * 3 * sizeof(float);
-    if (expectedOffset + bytes > blob.size())
-      throw IoError(blobPath + ": example " + std::to_string(i) + " stamp ends at byte " + std::to_string(expectedOffset + bytes) +
-                    " past the blob's " + std::to_string(blob.size()));
-    ex.stamp.create(stampRows, stampCols, CV_32FC3);
-    std::memcpy(ex.stamp.ptr(), blob.data() + expectedOffset, bytes);
-    expectedOffset += bytes;
-    const json& pattern = r.field(e, "pattern", p);
-    ex.pattern.indentDepth = r.number(pattern, "indent_depth", p + ".pattern");
-    const std::vector<double> drag = r.numbers(r.field(pattern, "drag", p + ".pattern"), p + ".pattern.drag", 3);
-    ex.pattern.drag = Eigen::Vector3d(drag[0], drag[1], drag[2]);
-    ex.sceneId = r.string(e, "scene_id", p);
-
-    if (!cv::checkRange(ex.stamp, true)) throw IoError(blobPath + ": example " + std::to_string(i) + " stamp contains NaN or Inf");
-    const std::string problem = exampleProblem(ex);
-    if (!problem.empty()) r.fail("example " + std::to_string(i) + ": " + problem);
-    set.examples.push_back(std::move(ex));
+// Example i of the manifest, its stamp taken from the blob at `offset` (advanced past it). `first` is
+// example 0 (null while reading it): the set shares its descriptor layout and stamp grid.
+Example readExample(const ManifestReader& r, const json& e, std::size_t i, const Example* first, std::string_view blob,
+                    const std::string& blobPath, std::uint64_t& offset) {
+  const std::string p = "manifest.examples[" + std::to_string(i) + "]";
+  Example ex;
+  const std::vector<double> c = r.numbers(r.field(e, "contact", p), p + ".contact", 3);
+  ex.contact = Eigen::Vector3d(c[0], c[1], c[2]);
+  const json& rows = r.field(e, "frame_rows", p);
+  if (!rows.is_array() || rows.size() != 3) r.fail("field " + p + ".frame_rows is not 3 rows");
+  for (int row = 0; row < 3; ++row) {
+    const std::vector<double> v = r.numbers(rows[row], p + ".frame_rows[" + std::to_string(row) + "]", 3);
+    for (int col = 0; col < 3; ++col) ex.frame(row, col) = v[col];
   }
-  if (expectedOffset != blob.size())
-    throw IoError(blobPath + ": " + std::to_string(blob.size() - expectedOffset) + " bytes not used by any example");
+  ex.rho = r.moments(e, "rho", p);
+  ex.mu = r.moments(e, "mu", p);
+  if (ex.rho.channels() != 1) r.fail("field " + p + ".rho must have 1 channel");
+  if (ex.mu.channels() != 3) r.fail("field " + p + ".mu must have 3 channels");
+  if (first && (!sameLayout(ex.rho, first->rho) || !sameLayout(ex.mu, first->mu)))
+    r.fail("field " + p + " has descriptor orders that differ from example 0");
+  ex.stampRadius = r.number(e, "stamp_radius", p);
+  const int stampRows = r.integer(e, "stamp_rows", p);
+  const int stampCols = r.integer(e, "stamp_cols", p);
+  if (stampRows < 2 || stampCols < 2 || stampRows > 4096 || stampCols > 4096)
+    r.fail("field " + p + " stamp size " + std::to_string(stampRows) + "x" + std::to_string(stampCols) + " outside [2, 4096]");
+  // eq. (16) blends stamps node by node, so a set shares one grid: same size and radius.
+  if (first && (stampRows != first->stamp.rows || stampCols != first->stamp.cols))
+    r.fail("field " + p + " stamp size differs from example 0 (a set shares one stamp grid)");
+  if (first && std::abs(ex.stampRadius - first->stampRadius) > 1e-9 * std::abs(first->stampRadius))
+    r.fail("field " + p + ".stamp_radius differs from example 0 (a set shares one stamp grid)");
+  const json& offsetField = r.field(e, "stamp_offset_bytes", p);
+  if (!offsetField.is_number_unsigned() || offsetField.get<std::uint64_t>() != offset)
+    r.fail("field " + p + ".stamp_offset_bytes is not " + std::to_string(offset) + " (stamps must be packed in order)");
+  const std::uint64_t bytes = static_cast<std::uint64_t>(stampRows) * static_cast<std::uint64_t>(stampCols) * 3 * sizeof(float);
+  if (offset + bytes > blob.size())
+    throw IoError(blobPath + ": example " + std::to_string(i) + " stamp ends at byte " + std::to_string(offset + bytes) +
+                  " past the blob's " + std::to_string(blob.size()));
+  ex.stamp.create(stampRows, stampCols, CV_32FC3);
+  std::memcpy(ex.stamp.ptr(), blob.data() + offset, bytes);
+  offset += bytes;
+  const json& pattern = r.field(e, "pattern", p);
+  ex.pattern.indentDepth = r.number(pattern, "indent_depth", p + ".pattern");
+  const std::vector<double> drag = r.numbers(r.field(pattern, "drag", p + ".pattern"), p + ".pattern.drag", 3);
+  ex.pattern.drag = Eigen::Vector3d(drag[0], drag[1], drag[2]);
+  ex.sceneId = r.string(e, "scene_id", p);
+
+  if (!cv::checkRange(ex.stamp, true)) throw IoError(blobPath + ": example " + std::to_string(i) + " stamp contains NaN or Inf");
+  const std::string problem = exampleProblem(ex);
+  if (!problem.empty()) r.fail("example " + std::to_string(i) + ": " + problem);
+  return ex;
+}
+
+std::string readWholeFile(const std::string& path, const char* missing) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path + ": cannot open (" + missing + "?)");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw IoError(path + ": read failed");
+  return text.str();
+}
+
+}  // namespace
+
+ExampleSet loadExampleSet(const std::string& directory) {
+  const fs::path dir(directory);
+  const std::string manifest = readWholeFile((dir / kManifestFile).string(), "missing manifest");
+  const std::string blob = readWholeFile((dir / kStampBlobFile).string(), "missing stamp blob");
+  return parseExampleSet(manifest, blob, directory);
+}
+
+ExampleSet parseExampleSet(std::string_view manifestText, std::string_view blob, const std::string& directory) {
+  if (!hostIsLittleEndian()) throw IoError(directory + ": example sets are little-endian; big-endian hosts are not supported");
+  const fs::path dir(directory);
+  const ManifestReader r((dir / kManifestFile).string());
+  const std::string blobPath = (dir / kStampBlobFile).string();
+  json manifest;
+  try {
+    manifest = json::parse(manifestText.begin(), manifestText.end());
+  } catch (const json::exception& e) {
+    r.fail(std::string("not valid JSON: ") + e.what());
+  }
+  ExampleSet set;
+  readHeader(r, manifest, set.metadata);
+  checkBlob(r, manifest, blob, blobPath);
+  const json& examples = r.field(manifest, "examples", "manifest");
+  if (!examples.is_array() || examples.empty()) r.fail("field manifest.examples is not a non-empty array");
+  std::uint64_t offset = 0;
+  for (std::size_t i = 0; i < examples.size(); ++i)
+    set.examples.push_back(readExample(r, examples[i], i, i > 0 ? &set.examples[0] : nullptr, blob, blobPath, offset));
+  if (offset != blob.size())
+    throw IoError(blobPath + ": " + std::to_string(blob.size() - offset) + " bytes not used by any example");
   return set;
 }
 

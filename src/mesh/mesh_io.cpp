@@ -12,7 +12,8 @@
 #include <fstream>
 
 #include "deformation_enrichment/error.hpp"
-#include "deformation_enrichment/mesh/polygon_triangulation.hpp"
+#include "deformation_enrichment/mesh/point_cloud_layout.hpp"
+#include "deformation_enrichment/mesh/triangle_mesh_from_cloud.hpp"
 
 namespace deformation_enrichment::mesh {
 namespace {
@@ -29,22 +30,23 @@ Format formatOf(const std::string& path) {
 }
 
 TriangleMesh fromPolygonMesh(const pcl::PolygonMesh& polygons, const std::string& path) {
-  pcl::PointCloud<pcl::PointXYZ> cloud;
-  pcl::fromPCLPointCloud2(polygons.cloud, cloud);
+  const pcl::PCLPointCloud2& cloud = polygons.cloud;
+  PointCloudLayout layout;
+  for (const auto& field : cloud.fields) layout.fields.push_back({field.name, field.offset, field.datatype, field.count});
+  layout.width = cloud.width;
+  layout.height = cloud.height;
+  layout.pointStep = cloud.point_step;
+  layout.rowStep = cloud.row_step;
+  layout.isBigEndian = cloud.is_bigendian;
   TriangleMesh mesh;
-  mesh.vertices.resize(3, static_cast<Eigen::Index>(cloud.size()));
-  for (size_t v = 0; v < cloud.size(); ++v) {
-    mesh.vertices.col(static_cast<Eigen::Index>(v)) = cloud[v].getVector3fMap().cast<double>();
-    if (!mesh.vertices.col(static_cast<Eigen::Index>(v)).allFinite())
-      throw IoError("mesh file '" + path + "': vertex " + std::to_string(v) + " is not finite");
-  }
   try {
-    mesh.triangles = fanTriangulate(polygons.polygons, mesh.numVertices(),
-                                    [](const pcl::Vertices& polygon) -> const auto& { return polygon.vertices; });
+    mesh = triangleMeshFromCloud(layout, cloud.data.data(), cloud.data.size(), polygons.polygons,
+                                 [](const pcl::Vertices& polygon) -> const auto& { return polygon.vertices; });
   } catch (const InvalidInputError& e) {
     throw IoError("mesh file '" + path + "': " + e.what());
   }
-  if (mesh.numTriangles() == 0) throw IoError("mesh file '" + path + "' has no triangles");
+  for (Eigen::Index v = 0; v < mesh.numVertices(); ++v)
+    if (!mesh.vertices.col(v).allFinite()) throw IoError("mesh file '" + path + "': vertex " + std::to_string(v) + " is not finite");
   return mesh;
 }
 

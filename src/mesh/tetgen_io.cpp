@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/number_parsing.hpp"
 
 namespace deformation_enrichment::mesh {
 namespace {
@@ -19,9 +20,7 @@ struct Record {
 
 class RecordReader {
 public:
-  explicit RecordReader(std::string path) : path_(std::move(path)), in_(path_) {
-    if (!in_) throw IoError("cannot open TetGen file " + path_);
-  }
+  RecordReader(std::istream& in, std::string path) : path_(std::move(path)), in_(in) {}
 
   /// Next record; throws IoError when the file ends early (`what` says what was expected).
   Record next(const std::string& what) {
@@ -44,46 +43,40 @@ public:
 
   long integer(const Record& record, std::size_t field, const std::string& name) const {
     if (field >= record.fields.size()) fail(record.line, "missing " + name);
-    const std::string& token = record.fields[field];
-    std::size_t used = 0;
-    long value = 0;
-    try {
-      value = std::stol(token, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != token.size()) fail(record.line, name + " '" + token + "' is not an integer");
-    return value;
+    const std::optional<long> value = parseInteger(record.fields[field]);
+    if (!value) fail(record.line, name + " '" + record.fields[field] + "' is not an integer");
+    return *value;
   }
 
   double real(const Record& record, std::size_t field, const std::string& name) const {
     if (field >= record.fields.size()) fail(record.line, "missing " + name);
-    const std::string& token = record.fields[field];
-    std::size_t used = 0;
-    double value = 0.0;
-    try {
-      value = std::stod(token, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != token.size()) fail(record.line, name + " '" + token + "' is not a number");
-    if (!std::isfinite(value)) fail(record.line, name + " is not finite");
-    return value;
+    const std::optional<double> value = parseReal(record.fields[field]);
+    if (!value) fail(record.line, name + " '" + record.fields[field] + "' is not a number");
+    if (!std::isfinite(*value)) fail(record.line, name + " is not finite");
+    return *value;
   }
 
 private:
   std::string path_;
-  std::ifstream in_;
+  std::istream& in_;
   int line_ = 0;
 };
 
 }  // namespace
 
 TetGenMesh readTetGen(const std::string& base) {
+  std::ifstream node(base + ".node");
+  if (!node) throw IoError("cannot open TetGen file " + base + ".node");
+  std::ifstream ele(base + ".ele");
+  if (!ele) throw IoError("cannot open TetGen file " + base + ".ele");
+  return readTetGen(node, ele, base);
+}
+
+TetGenMesh readTetGen(std::istream& nodeStream, std::istream& eleStream, const std::string& base) {
   TetGenMesh result;
   int indexBase = 0;
   {
-    RecordReader node(base + ".node");
+    RecordReader node(nodeStream, base + ".node");
     const Record header = node.next("the header");
     const long count = node.integer(header, 0, "point count");
     const long dimension = header.fields.size() > 1 ? node.integer(header, 1, "dimension") : 3;
@@ -109,7 +102,7 @@ TetGenMesh readTetGen(const std::string& base) {
       for (int k = 0; k < 3; ++k) result.mesh.vertices(k, i) = node.real(record, 1 + k, "coordinate");
     }
   }
-  RecordReader ele(base + ".ele");
+  RecordReader ele(eleStream, base + ".ele");
   const Record header = ele.next("the header");
   const long count = ele.integer(header, 0, "tetrahedron count");
   const long corners = header.fields.size() > 1 ? ele.integer(header, 1, "nodes per tetrahedron") : 4;

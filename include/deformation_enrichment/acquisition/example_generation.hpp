@@ -13,26 +13,13 @@
 #include <string>
 #include <vector>
 
+#include "deformation_enrichment/acquisition/plan_io.hpp"
 #include "deformation_enrichment/enrichment/contact_enricher.hpp"
 #include "deformation_enrichment/examples/example.hpp"
 #include "deformation_enrichment/mesh/triangle_mesh.hpp"
 #include "deformation_enrichment/scenes/procedural_scene.hpp"
 
 namespace deformation_enrichment::acquisition {
-
-/// One line of a plan / contacts CSV: `x,y,z,depth,dx,dy,dz` (metres): contact near the rest surface,
-/// indentation depth along the inward normal, lateral drag vector.
-struct PlanEntry {
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();
-  double depth = 0.0;
-  Eigen::Vector3d drag = Eigen::Vector3d::Zero();
-};
-
-/// Parses the CSV (blank lines and lines starting with '#' skipped). Throws IoError naming the file and
-/// line for an unreadable file, a wrong field count, a non-numeric or non-finite field, a negative depth,
-/// or no entry at all.
-std::vector<PlanEntry> readPlan(const std::string& path);
-void writePlan(const std::string& path, const std::vector<PlanEntry>& plan);
 
 /// Ten indent / drag interactions on the slab top (|x|, |y| <= 0.02 m, depths 2-4 mm, drags 0-6 mm).
 std::vector<PlanEntry> defaultSlabPlan();

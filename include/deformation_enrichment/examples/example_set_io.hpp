@@ -9,6 +9,7 @@
 // under the final names. The loader checks everything and throws IoError naming the file and problem.
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 #include "deformation_enrichment/examples/example.hpp"
 
@@ -34,5 +35,9 @@ void saveExampleSet(const ExampleSet& set, const std::string& directory);
 /// size or checksum does not match, non-finite stamp values, non-positive radius, non-orthonormal frame,
 /// stamps whose size or radius differ between examples (eq. 16 blends them node by node).
 ExampleSet loadExampleSet(const std::string& directory);
+
+/// The same from the contents of the two files (loadExampleSet reads them and calls this); `directory`
+/// names the files in error messages.
+ExampleSet parseExampleSet(std::string_view manifest, std::string_view blob, const std::string& directory);
 
 }  // namespace deformation_enrichment::examples

@@ -2,6 +2,7 @@
 // TetGen `.node` / `.ele` files (the format of the `tetgen` command-line tool): read with validation and
 // write. The region attribute of `.ele` (first tet attribute, written by `tetgen -A`) carries material ids.
 #include <Eigen/Core>
+#include <iosfwd>
 #include <string>
 
 #include "deformation_enrichment/mesh/tet_mesh.hpp"
@@ -20,6 +21,8 @@ struct TetGenMesh {
 /// other versions and exporters differ); zero-volume tets, missing or non-numeric fields, non-finite coordinates, duplicate or
 /// out-of-range indices throw IoError naming the file and line.
 TetGenMesh readTetGen(const std::string& base);
+/// The same from two streams holding the .node and .ele text; `base` names the files in error messages.
+TetGenMesh readTetGen(std::istream& node, std::istream& ele, const std::string& base);
 
 /// Writes `<base>.node` and `<base>.ele` (0-based indices). When `region` is non-empty it must hold one
 /// id per tet and is written as the single tet attribute. Throws IoError if a file cannot be written and

@@ -9,8 +9,8 @@
 
 namespace deformation_enrichment::ros_layer {
 
-/// Reads the x, y, z float32 fields. Throws InvalidInputError naming a missing or mistyped field or a
-/// data buffer that does not match width, height and point_step.
+/// Reads the x, y, z float32 fields (mesh::decodePositions). Throws InvalidInputError naming a missing or
+/// mistyped field or a data buffer that does not match width, height and point_step.
 Eigen::Matrix3Xf positionsFromCloud(const sensor_msgs::PointCloud2& cloud);
 
 /// Overwrites the x, y, z fields of `cloud` (which must already have the layout positionsFromCloud
@@ -20,8 +20,8 @@ void writePositions(const Eigen::Matrix3Xf& positions, sensor_msgs::PointCloud2&
 /// A dense, unorganised x y z float32 cloud.
 sensor_msgs::PointCloud2 cloudFromPositions(const Eigen::Matrix3Xf& positions, const std_msgs::Header& header);
 
-/// Throws InvalidInputError if the message is empty, its polygons reference missing vertices or it
-/// has no triangle.
+/// mesh::triangleMeshFromCloud, then mesh::validate(..., false). Throws InvalidInputError if the message
+/// is empty, its polygons reference missing vertices, it has no triangle or a triangle repeats a vertex.
 mesh::TriangleMesh triangleMeshFromMessage(const pcl_msgs::PolygonMesh& message);
 
 pcl_msgs::PolygonMesh messageFromTriangleMesh(const mesh::TriangleMesh& mesh, const std_msgs::Header& header);

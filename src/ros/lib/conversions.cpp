@@ -5,62 +5,33 @@
 #include <string>
 
 #include "deformation_enrichment/error.hpp"
-#include "deformation_enrichment/mesh/polygon_triangulation.hpp"
+#include "deformation_enrichment/mesh/point_cloud_layout.hpp"
+#include "deformation_enrichment/mesh/triangle_mesh_from_cloud.hpp"
 
 namespace deformation_enrichment::ros_layer {
 namespace {
 
-// Byte offsets of x, y, z after checking that all three exist as float32 and the buffer is consistent.
-std::array<uint32_t, 3> xyzOffsets(const sensor_msgs::PointCloud2& cloud) {
-  std::array<uint32_t, 3> offsets{};
-  const char* names[3] = {"x", "y", "z"};
-  for (int axis = 0; axis < 3; ++axis) {
-    const sensor_msgs::PointField* found = nullptr;
-    for (const auto& field : cloud.fields)
-      if (field.name == names[axis]) found = &field;
-    if (!found) throw InvalidInputError(std::string("point cloud has no '") + names[axis] + "' field");
-    if (found->datatype != sensor_msgs::PointField::FLOAT32 || found->count != 1)
-      throw InvalidInputError(std::string("point cloud field '") + names[axis] + "' is not a single float32");
-    if (found->offset + sizeof(float) > cloud.point_step)
-      throw InvalidInputError(std::string("point cloud field '") + names[axis] + "' lies outside point_step");
-    offsets[axis] = found->offset;
-  }
-  if (cloud.is_bigendian) throw InvalidInputError("big-endian point clouds are not supported");
-  const uint64_t points = static_cast<uint64_t>(cloud.width) * cloud.height;
-  if (static_cast<uint64_t>(cloud.row_step) * cloud.height != cloud.data.size() ||
-      static_cast<uint64_t>(cloud.point_step) * cloud.width > cloud.row_step)
-    throw InvalidInputError("point cloud data size " + std::to_string(cloud.data.size()) + " does not match " +
-                            std::to_string(points) + " points of " + std::to_string(cloud.point_step) + " bytes");
-  return offsets;
+// The message's layout in core terms (the decoding and its validation live in mesh/point_cloud_layout).
+mesh::PointCloudLayout layoutOf(const sensor_msgs::PointCloud2& cloud) {
+  mesh::PointCloudLayout layout;
+  layout.fields.reserve(cloud.fields.size());
+  for (const auto& field : cloud.fields) layout.fields.push_back({field.name, field.offset, field.datatype, field.count});
+  layout.width = cloud.width;
+  layout.height = cloud.height;
+  layout.pointStep = cloud.point_step;
+  layout.rowStep = cloud.row_step;
+  layout.isBigEndian = cloud.is_bigendian;
+  return layout;
 }
 
 }  // namespace
 
 Eigen::Matrix3Xf positionsFromCloud(const sensor_msgs::PointCloud2& cloud) {
-  const auto offsets = xyzOffsets(cloud);
-  Eigen::Matrix3Xf positions(3, static_cast<Eigen::Index>(cloud.width) * cloud.height);
-  Eigen::Index index = 0;
-  for (uint32_t row = 0; row < cloud.height; ++row) {
-    const uint8_t* point = cloud.data.data() + static_cast<size_t>(row) * cloud.row_step;
-    for (uint32_t column = 0; column < cloud.width; ++column, point += cloud.point_step, ++index) {
-      for (int axis = 0; axis < 3; ++axis) std::memcpy(&positions(axis, index), point + offsets[axis], sizeof(float));
-    }
-  }
-  return positions;
+  return mesh::decodePositions(layoutOf(cloud), cloud.data.data(), cloud.data.size());
 }
 
 void writePositions(const Eigen::Matrix3Xf& positions, sensor_msgs::PointCloud2& cloud) {
-  const auto offsets = xyzOffsets(cloud);
-  if (static_cast<uint64_t>(cloud.width) * cloud.height != static_cast<uint64_t>(positions.cols()))
-    throw InvalidInputError("cannot write " + std::to_string(positions.cols()) + " positions into a cloud of " +
-                            std::to_string(static_cast<uint64_t>(cloud.width) * cloud.height) + " points");
-  Eigen::Index index = 0;
-  for (uint32_t row = 0; row < cloud.height; ++row) {
-    uint8_t* point = cloud.data.data() + static_cast<size_t>(row) * cloud.row_step;
-    for (uint32_t column = 0; column < cloud.width; ++column, point += cloud.point_step, ++index) {
-      for (int axis = 0; axis < 3; ++axis) std::memcpy(point + offsets[axis], &positions(axis, index), sizeof(float));
-    }
-  }
+  mesh::encodePositions(positions, layoutOf(cloud), cloud.data.data(), cloud.data.size());
 }
 
 sensor_msgs::PointCloud2 cloudFromPositions(const Eigen::Matrix3Xf& positions, const std_msgs::Header& header) {
@@ -75,13 +46,10 @@ sensor_msgs::PointCloud2 cloudFromPositions(const Eigen::Matrix3Xf& positions, c
 }
 
 mesh::TriangleMesh triangleMeshFromMessage(const pcl_msgs::PolygonMesh& message) {
-  mesh::TriangleMesh result;
-  const Eigen::Matrix3Xf positions = positionsFromCloud(message.cloud);
-  if (positions.cols() == 0) throw InvalidInputError("rest mesh has no vertices");
-  result.vertices = positions.cast<double>();
-  result.triangles = mesh::fanTriangulate(message.polygons, result.numVertices(),
-                                          [](const pcl_msgs::Vertices& p) -> const auto& { return p.vertices; });
-  if (result.numTriangles() == 0) throw InvalidInputError("rest mesh has no triangles");
+  const sensor_msgs::PointCloud2& cloud = message.cloud;
+  mesh::TriangleMesh result =
+      mesh::triangleMeshFromCloud(layoutOf(cloud), cloud.data.data(), cloud.data.size(), message.polygons,
+                                  [](const pcl_msgs::Vertices& p) -> const auto& { return p.vertices; });
   mesh::validate(result, false);
   return result;
 }

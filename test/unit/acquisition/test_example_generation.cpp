@@ -3,8 +3,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
-#include <sstream>
-#include <fstream>
 #include <unistd.h>
 
 #include "deformation_enrichment/acquisition/held_out_evaluation.hpp"
@@ -15,12 +13,6 @@
 using namespace deformation_enrichment;
 
 namespace {
-
-std::string writeTemp(const std::string& name, const std::string& text) {
-  const std::string path = "/tmp/de_acq_" + std::to_string(::getpid()) + "_" + name;
-  std::ofstream(path) << text;
-  return path;
-}
 
 acquisition::SlabAcquisitionOptions tiny() {
   acquisition::SlabAcquisitionOptions o;
@@ -35,27 +27,6 @@ acquisition::SlabAcquisitionOptions tiny() {
 }
 
 }  // namespace
-
-TEST(ExampleGeneration, PlanRoundTripAndErrors) {
-  const auto plan = acquisition::defaultSlabPlan();
-  EXPECT_GE(plan.size(), 8u);
-  const std::string path = "/tmp/de_acq_" + std::to_string(::getpid()) + "_plan.csv";
-  acquisition::writePlan(path, plan);
-  const auto read = acquisition::readPlan(path);
-  ASSERT_EQ(read.size(), plan.size());
-  for (std::size_t i = 0; i < plan.size(); ++i) {
-    EXPECT_EQ(read[i].point, plan[i].point);
-    EXPECT_EQ(read[i].depth, plan[i].depth);
-    EXPECT_EQ(read[i].drag, plan[i].drag);
-  }
-  EXPECT_THROW(acquisition::readPlan(writeTemp("a.csv", "0,0,0.02,0.003,0,0\n")), IoError);
-  EXPECT_THROW(acquisition::readPlan(writeTemp("b.csv", "0,0,0.02,x,0,0,0\n")), IoError);
-  EXPECT_THROW(acquisition::readPlan(writeTemp("c.csv", "0,0,0.02,nan,0,0,0\n")), IoError);
-  EXPECT_THROW(acquisition::readPlan(writeTemp("d.csv", "0,0,0.02,-0.001,0,0,0\n")), IoError);
-  EXPECT_THROW(acquisition::readPlan(writeTemp("e.csv", "# nothing\n\n")), IoError);
-  EXPECT_THROW(acquisition::readPlan("/nonexistent/plan.csv"), IoError);
-  EXPECT_EQ(acquisition::readPlan(writeTemp("f.csv", "# c\n 0, 0 ,0.02,0.003,0.001,0,0 \n")).size(), 1u);
-}
 
 TEST(ExampleGeneration, IdenticalCoarseAndFineGiveAZeroStamp) {
   // Same resolution for both: the embedding is exact and d = fine - coarse must vanish.

@@ -1,0 +1,59 @@
+#include "deformation_enrichment/mesh/point_cloud_layout.hpp"
+
+#include <cstring>
+
+#include "deformation_enrichment/error.hpp"
+
+namespace deformation_enrichment::mesh {
+
+std::array<std::uint32_t, 3> xyzOffsets(const PointCloudLayout& layout, std::size_t dataSize) {
+  std::array<std::uint32_t, 3> offsets{};
+  const char* names[3] = {"x", "y", "z"};
+  for (int axis = 0; axis < 3; ++axis) {
+    const PointFieldLayout* found = nullptr;
+    for (const auto& field : layout.fields)
+      if (field.name == names[axis]) found = &field;
+    if (!found) throw InvalidInputError(std::string("point cloud has no '") + names[axis] + "' field");
+    if (found->datatype != kFloat32Field || found->count != 1)
+      throw InvalidInputError(std::string("point cloud field '") + names[axis] + "' is not a single float32");
+    if (found->offset + sizeof(float) > layout.pointStep)
+      throw InvalidInputError(std::string("point cloud field '") + names[axis] + "' lies outside point_step");
+    offsets[axis] = found->offset;
+  }
+  if (layout.isBigEndian) throw InvalidInputError("big-endian point clouds are not supported");
+  const std::uint64_t points = static_cast<std::uint64_t>(layout.width) * layout.height;
+  if (static_cast<std::uint64_t>(layout.rowStep) * layout.height != dataSize ||
+      static_cast<std::uint64_t>(layout.pointStep) * layout.width > layout.rowStep)
+    throw InvalidInputError("point cloud data size " + std::to_string(dataSize) + " does not match " +
+                            std::to_string(points) + " points of " + std::to_string(layout.pointStep) + " bytes");
+  return offsets;
+}
+
+Eigen::Matrix3Xf decodePositions(const PointCloudLayout& layout, const std::uint8_t* data, std::size_t size) {
+  const auto offsets = xyzOffsets(layout, size);
+  Eigen::Matrix3Xf positions(3, static_cast<Eigen::Index>(layout.width) * layout.height);
+  Eigen::Index index = 0;
+  for (std::uint32_t row = 0; row < layout.height; ++row) {
+    const std::uint8_t* point = data + static_cast<std::size_t>(row) * layout.rowStep;
+    for (std::uint32_t column = 0; column < layout.width; ++column, point += layout.pointStep, ++index)
+      for (int axis = 0; axis < 3; ++axis) std::memcpy(&positions(axis, index), point + offsets[axis], sizeof(float));
+  }
+  return positions;
+}
+
+void encodePositions(const Eigen::Matrix3Xf& positions, const PointCloudLayout& layout, std::uint8_t* data,
+                     std::size_t size) {
+  const auto offsets = xyzOffsets(layout, size);
+  const std::uint64_t points = static_cast<std::uint64_t>(layout.width) * layout.height;
+  if (points != static_cast<std::uint64_t>(positions.cols()))
+    throw InvalidInputError("cannot write " + std::to_string(positions.cols()) + " positions into a cloud of " +
+                            std::to_string(points) + " points");
+  Eigen::Index index = 0;
+  for (std::uint32_t row = 0; row < layout.height; ++row) {
+    std::uint8_t* point = data + static_cast<std::size_t>(row) * layout.rowStep;
+    for (std::uint32_t column = 0; column < layout.width; ++column, point += layout.pointStep, ++index)
+      for (int axis = 0; axis < 3; ++axis) std::memcpy(point + offsets[axis], &positions(axis, index), sizeof(float));
+  }
+}
+
+}  // namespace deformation_enrichment::mesh

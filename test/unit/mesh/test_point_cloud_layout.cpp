@@ -1,0 +1,123 @@
+// Decoding of raw point-cloud buffers (the ROS-free half of ros_layer::positionsFromCloud and
+// triangleMeshFromMessage): valid layouts round-trip, every inconsistency is named.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/mesh/point_cloud_layout.hpp"
+#include "deformation_enrichment/mesh/triangle_mesh_from_cloud.hpp"
+
+namespace de = deformation_enrichment;
+namespace mesh = deformation_enrichment::mesh;
+
+namespace {
+
+// x y z float32 plus an rgb field in between (as PCL's PointXYZRGB-like clouds have), 16-byte points,
+// `width` x `height` points with `padding` spare bytes at the end of every row.
+struct Cloud {
+  mesh::PointCloudLayout layout;
+  std::vector<std::uint8_t> data;
+};
+
+Cloud makeCloud(std::uint32_t width, std::uint32_t height, std::uint32_t padding = 0) {
+  Cloud c;
+  c.layout.fields = {{"x", 0, mesh::kFloat32Field, 1}, {"rgb", 4, mesh::kFloat32Field, 1},
+                     {"y", 8, mesh::kFloat32Field, 1}, {"z", 12, mesh::kFloat32Field, 1}};
+  c.layout.width = width;
+  c.layout.height = height;
+  c.layout.pointStep = 16;
+  c.layout.rowStep = 16 * width + padding;
+  c.data.assign(static_cast<std::size_t>(c.layout.rowStep) * height, 0xAB);
+  return c;
+}
+
+Eigen::Matrix3Xf ramp(Eigen::Index n) {
+  Eigen::Matrix3Xf p(3, n);
+  for (Eigen::Index i = 0; i < p.size(); ++i) p.data()[i] = 0.5f * static_cast<float>(i) - 1.0f;
+  return p;
+}
+
+void expectInvalid(const Cloud& c, const std::string& fragment) {
+  try {
+    mesh::decodePositions(c.layout, c.data.data(), c.data.size());
+    ADD_FAILURE() << "accepted a bad cloud (expected: " << fragment << ")";
+  } catch (const de::InvalidInputError& e) {
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+
+TEST(PointCloudLayout, EncodeDecodeRoundTripKeepsOtherFieldsAndRowPadding) {
+  Cloud c = makeCloud(3, 2, 5);
+  const Eigen::Matrix3Xf p = ramp(6);
+  mesh::encodePositions(p, c.layout, c.data.data(), c.data.size());
+  EXPECT_EQ(mesh::decodePositions(c.layout, c.data.data(), c.data.size()), p);
+  float rgb = 0.0f;
+  std::memcpy(&rgb, c.data.data() + c.layout.rowStep + 16 + 4, sizeof rgb);  // row 1, point 1
+  const std::uint8_t untouched[4] = {0xAB, 0xAB, 0xAB, 0xAB};
+  EXPECT_EQ(std::memcmp(&rgb, untouched, 4), 0);
+  EXPECT_EQ(c.data[c.layout.rowStep - 1], 0xAB);  // padding
+  EXPECT_THROW(mesh::encodePositions(ramp(5), c.layout, c.data.data(), c.data.size()), de::InvalidInputError);
+}
+
+TEST(PointCloudLayout, EmptyCloudDecodesToNoPoints) {
+  const Cloud c = makeCloud(0, 0);
+  EXPECT_EQ(mesh::decodePositions(c.layout, c.data.data(), c.data.size()).cols(), 0);
+}
+
+TEST(PointCloudLayout, InconsistentLayoutsAreNamed) {
+  Cloud c = makeCloud(2, 2);
+  c.layout.fields.erase(c.layout.fields.begin() + 2);
+  expectInvalid(c, "no 'y' field");
+  c = makeCloud(2, 2);
+  c.layout.fields[3].datatype = 8;  // float64
+  expectInvalid(c, "'z' is not a single float32");
+  c = makeCloud(2, 2);
+  c.layout.fields[0].count = 2;
+  expectInvalid(c, "'x' is not a single float32");
+  c = makeCloud(2, 2);
+  c.layout.fields[3].offset = 13;
+  expectInvalid(c, "'z' lies outside point_step");
+  c = makeCloud(2, 2);
+  c.layout.fields[0].offset = 0xFFFFFFFFu;  // offset + 4 must not wrap around
+  expectInvalid(c, "'x' lies outside point_step");
+  c = makeCloud(2, 2);
+  c.layout.isBigEndian = true;
+  expectInvalid(c, "big-endian");
+  c = makeCloud(2, 2);
+  c.data.pop_back();
+  expectInvalid(c, "does not match");
+  c = makeCloud(2, 2);
+  c.layout.rowStep = 16;  // two 16-byte points do not fit a 16-byte row
+  c.data.resize(32);
+  expectInvalid(c, "does not match");
+  c = makeCloud(2, 1);
+  c.layout.width = 0xFFFFFFFFu;  // a lying width must not be trusted against the buffer
+  expectInvalid(c, "does not match");
+}
+
+TEST(TriangleMeshFromCloud, FanTriangulatesPolygonsAndNamesBadOnes) {
+  Cloud c = makeCloud(4, 1);
+  mesh::encodePositions(ramp(4), c.layout, c.data.data(), c.data.size());
+  const auto corners = [](const std::vector<std::uint32_t>& polygon) -> const auto& { return polygon; };
+  const std::vector<std::vector<std::uint32_t>> quad = {{0, 1, 2, 3}, {1, 2}};
+  const mesh::TriangleMesh m = mesh::triangleMeshFromCloud(c.layout, c.data.data(), c.data.size(), quad, corners);
+  EXPECT_EQ(m.vertices, ramp(4).cast<double>());
+  ASSERT_EQ(m.numTriangles(), 2);  // the line is skipped
+  EXPECT_EQ(m.triangles.col(1), Eigen::Vector3i(0, 2, 3));
+  const auto message = [&](const Cloud& cloud, const std::vector<std::vector<std::uint32_t>>& polygons) {
+    try {
+      mesh::triangleMeshFromCloud(cloud.layout, cloud.data.data(), cloud.data.size(), polygons, corners);
+    } catch (const de::InvalidInputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message(c, {{0, 1}}), "mesh has no triangles");
+  EXPECT_EQ(message(c, {{0, 1, 4}}), "polygon 0 references vertex 4 of 4");
+  EXPECT_EQ(message(makeCloud(0, 1), quad), "mesh has no vertices");
+}
