@@ -4,7 +4,7 @@
 #
 #   deformation_enrichment_geometry     mesh, hermite, kinematics
 #   deformation_enrichment_descriptors  descriptors                 -> geometry
-#   deformation_enrichment_runtime      examples, enrichment        -> descriptors
+#   deformation_enrichment_runtime      scene_file, examples, enrichment -> descriptors
 #   deformation_enrichment_simulation   elasticity, scenes, acquisition -> runtime (acquisition describes examples
 #                                       with the run-time code)
 #   deformation_enrichment_shape_space  shape_space                 -> geometry
@@ -16,6 +16,7 @@ find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs)
 find_package(PCL REQUIRED COMPONENTS common io kdtree search)
 find_package(OpenMP)
+find_package(yaml-cpp REQUIRED)
 find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse)
 find_library(CHOLMOD_LIBRARY cholmod)
 
@@ -24,7 +25,7 @@ set(DE_WARNINGS -Wall -Wextra)
 # Module folder -> library of its layer (read by de_link_core_for below).
 set(DE_LAYER_geometry mesh hermite kinematics)
 set(DE_LAYER_descriptors descriptors)
-set(DE_LAYER_runtime examples enrichment)
+set(DE_LAYER_runtime scene_file examples enrichment)
 set(DE_LAYER_simulation elasticity scenes acquisition)
 set(DE_LAYER_shape_space shape_space)
 set(DE_LAYERS geometry descriptors runtime simulation shape_space)
@@ -64,6 +65,11 @@ target_compile_definitions(deformation_enrichment_geometry PRIVATE ${PCL_DEFINIT
 target_link_libraries(deformation_enrichment_geometry PRIVATE ${PCL_LIBRARIES})
 de_add_layer(descriptors deformation_enrichment_geometry)
 de_add_layer(runtime deformation_enrichment_descriptors ${OpenCV_LIBS})
+target_link_libraries(deformation_enrichment_runtime PRIVATE yaml-cpp)
+# Shipped scenes (config/scenes/<name>.yaml): installed share folder first, then the source tree.
+target_compile_definitions(deformation_enrichment_runtime PRIVATE
+  DE_SOURCE_SCENE_DIR="${PROJECT_SOURCE_DIR}/config/scenes"
+  DE_INSTALL_SCENE_DIR="${CMAKE_INSTALL_PREFIX}/share/${PROJECT_NAME}/config/scenes")
 de_add_layer(simulation deformation_enrichment_runtime)
 de_add_layer(shape_space deformation_enrichment_geometry)
 if(OpenMP_CXX_FOUND)
@@ -178,4 +184,11 @@ if(DE_BUILD_TESTS AND TARGET de_make_examples AND TARGET de_evaluate)
   add_test(NAME slab_held_out_accuracy COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/test/accuracy/held_out_ratio.py
     $<TARGET_FILE_DIR:de_evaluate> ${DE_TEST_SLAB_SET} 0.45)
   set_tests_properties(slab_held_out_accuracy PROPERTIES FIXTURES_REQUIRED slab_set TIMEOUT 600)
+endif()
+
+# Shards of one plan acquired in parallel (as Slurm array tasks) merge into the single run's set.
+if(DE_BUILD_TESTS AND TARGET de_make_examples AND TARGET de_merge_examples)
+  add_test(NAME shards_in_parallel COMMAND bash ${PROJECT_SOURCE_DIR}/test/acquisition/shards_in_parallel.sh
+    ${PROJECT_SOURCE_DIR} $<TARGET_FILE_DIR:de_make_examples>)
+  set_tests_properties(shards_in_parallel PROPERTIES TIMEOUT 600)
 endif()
