@@ -38,15 +38,82 @@ PlanEntry pressAt(const Eigen::Vector3d& point, double radius, const Eigen::Vect
   return e;
 }
 
+// A third of the incident triangles' area for each candidate vertex: the surface a site stands for.
+std::vector<double> vertexAreas(const mesh::TriangleMesh& surface, const std::vector<int>& candidates) {
+  std::vector<double> perVertex(static_cast<std::size_t>(surface.numVertices()), 0.0);
+  for (Eigen::Index f = 0; f < surface.numTriangles(); ++f) {
+    const Eigen::Vector3i t = surface.triangles.col(f);
+    const double third = (surface.vertices.col(t(1)) - surface.vertices.col(t(0)))
+                             .cross(surface.vertices.col(t(2)) - surface.vertices.col(t(0)))
+                             .norm() / 6.0;
+    for (int k = 0; k < 3; ++k) perVertex[static_cast<std::size_t>(t(k))] += third;
+  }
+  std::vector<double> areas;
+  for (int v : candidates) areas.push_back(perVertex[static_cast<std::size_t>(v)]);
+  return areas;
+}
+
+// Sites per region in proportion to the region's area (largest remainders), at least one each.
+std::vector<int> sitesPerRegion(const std::vector<int>& labels, const std::vector<double>& areas, int regions, int sites) {
+  std::vector<double> regionArea(static_cast<std::size_t>(regions), 0.0);
+  for (std::size_t k = 0; k < labels.size(); ++k) regionArea[static_cast<std::size_t>(labels[k])] += areas[k];
+  double total = 0.0;
+  for (double a : regionArea) total += a;
+  std::vector<int> count(static_cast<std::size_t>(regions), 1);
+  std::vector<double> share(static_cast<std::size_t>(regions));
+  for (int r = 0; r < regions; ++r) share[static_cast<std::size_t>(r)] = (sites - regions) * regionArea[static_cast<std::size_t>(r)] / total;
+  int left = sites - regions;
+  for (int r = 0; r < regions; ++r) {
+    const int whole = static_cast<int>(std::floor(share[static_cast<std::size_t>(r)]));
+    count[static_cast<std::size_t>(r)] += whole;
+    share[static_cast<std::size_t>(r)] -= whole;
+    left -= whole;
+  }
+  for (; left > 0; --left) {  // largest remainder first; ties to the lower region id
+    const auto largest = std::max_element(share.begin(), share.end()) - share.begin();
+    ++count[static_cast<std::size_t>(largest)];
+    share[static_cast<std::size_t>(largest)] = -1.0;
+  }
+  return count;
+}
+
+// `count` sites of a region: the vertex whose rho is nearest the region's mean, then each next one the
+// region's vertex farthest (in space) from the sites chosen so far.
+std::vector<std::size_t> spreadSites(const descriptors::KMeansResult& clusters, const std::vector<hermite::MomentList>& rho,
+                                     const mesh::TriangleMesh& surface, const std::vector<int>& candidates, int region,
+                                     int count) {
+  std::vector<std::size_t> members;
+  for (std::size_t k = 0; k < candidates.size(); ++k)
+    if (clusters.labels[k] == region) members.push_back(k);
+  std::vector<std::size_t> chosen;
+  double best = INFINITY;
+  for (std::size_t k : members) {
+    const double d = descriptors::siteDistance(rho[k], clusters.centres[static_cast<std::size_t>(region)]);
+    if (d < best) best = d, chosen.assign(1, k);
+  }
+  std::vector<double> nearest(members.size(), INFINITY);
+  while (static_cast<int>(chosen.size()) < std::min<int>(count, static_cast<int>(members.size()))) {
+    const Eigen::Vector3d last = surface.vertices.col(candidates[chosen.back()]);
+    std::size_t farthest = 0;
+    for (std::size_t m = 0; m < members.size(); ++m) {
+      nearest[m] = std::min(nearest[m], (surface.vertices.col(candidates[members[m]]) - last).norm());
+      if (nearest[m] > nearest[farthest]) farthest = m;
+    }
+    chosen.push_back(members[farthest]);
+  }
+  return chosen;
+}
+
 }  // namespace
 
 std::vector<PlanEntry> autoPlan(SceneAcquisition& acquisition, int examples) {
   if (examples < 1) throw InvalidInputError("autoPlan: needs at least one example, got " + std::to_string(examples));
   const std::vector<int> candidates = touchableSurfaceVertices(acquisition);
-  const int regions = (examples + kPatternsPerSite - 1) / kPatternsPerSite;
-  if (static_cast<int>(candidates.size()) < regions)
+  const int sites = (examples + kPatternsPerSite - 1) / kPatternsPerSite;
+  const int regions = std::min(sites, kMaxRegions);
+  if (static_cast<int>(candidates.size()) < sites)
     throw InvalidInputError("autoPlan: " + std::to_string(candidates.size()) + " touchable surface vertices for " +
-                            std::to_string(regions) + " site regions");
+                            std::to_string(sites) + " sites");
   // Site descriptors in each vertex's stamping frame at rest, as the examples will be described.
   const mesh::TriangleMesh& surface = acquisition.fineSurface();
   std::vector<hermite::MomentList> rho;
@@ -61,21 +128,17 @@ std::vector<PlanEntry> autoPlan(SceneAcquisition& acquisition, int examples) {
   descriptors::KMeansOptions kmeans;
   kmeans.clusters = regions;
   const descriptors::KMeansResult clusters = descriptors::kMeansSites(rho, kmeans);
+  const std::vector<int> perRegion = sitesPerRegion(clusters.labels, vertexAreas(surface, candidates), regions, sites);
   const double r = acquisition.scene().tool.radius;
   std::vector<PlanEntry> plan;
   for (int region = 0; region < regions; ++region) {
-    std::size_t site = 0;
-    double best = INFINITY;
-    for (std::size_t k = 0; k < candidates.size(); ++k) {
-      if (clusters.labels[k] != region) continue;
-      const double d = descriptors::siteDistance(rho[k], clusters.centres[static_cast<std::size_t>(region)]);
-      if (d < best) best = d, site = k;
+    for (const std::size_t site : spreadSites(clusters, rho, surface, candidates, region, perRegion[static_cast<std::size_t>(region)])) {
+      const Eigen::Vector3d p = surface.vertices.col(candidates[site]);
+      const Eigen::Matrix3d& B = frames[site];
+      const Eigen::Vector3d drags[kPatternsPerSite] = {Eigen::Vector3d::Zero(), r * B.col(0), r * B.col(1)};
+      for (int pattern = 0; pattern < kPatternsPerSite && static_cast<int>(plan.size()) < examples; ++pattern)
+        plan.push_back(pressAt(p, r, drags[pattern]));
     }
-    const Eigen::Vector3d p = surface.vertices.col(candidates[site]);
-    const Eigen::Matrix3d& B = frames[site];
-    const Eigen::Vector3d drags[kPatternsPerSite] = {Eigen::Vector3d::Zero(), r * B.col(0), r * B.col(1)};
-    for (int pattern = 0; pattern < kPatternsPerSite && static_cast<int>(plan.size()) < examples; ++pattern)
-      plan.push_back(pressAt(p, r, drags[pattern]));
   }
   return plan;
 }
