@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <vector>
@@ -75,6 +76,11 @@ public:
   int integer(const json& obj, const std::string& key, const std::string& path) const {
     const json& v = field(obj, key, path);
     if (!v.is_number_integer()) fail("field " + path + "." + key + " is not an integer");
+    // get<int>() would wrap: format_version 4294967297 read as 1, stamp_rows 4294967298 as 2.
+    const bool fits = v.is_number_unsigned() ? v.get<std::uint64_t>() <= std::uint64_t(std::numeric_limits<int>::max())
+                                             : v.get<std::int64_t>() >= std::numeric_limits<int>::min() &&
+                                                   v.get<std::int64_t>() <= std::numeric_limits<int>::max();
+    if (!fits) fail("field " + path + "." + key + " is outside the int range");
     return v.get<int>();
   }
   std::string string(const json& obj, const std::string& key, const std::string& path) const {

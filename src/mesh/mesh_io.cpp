@@ -12,8 +12,8 @@
 #include <fstream>
 
 #include "deformation_enrichment/error.hpp"
-#include "deformation_enrichment/mesh/point_cloud_layout.hpp"
-#include "deformation_enrichment/mesh/triangle_mesh_from_cloud.hpp"
+#include "deformation_enrichment/mesh/obj_reader.hpp"
+#include "deformation_enrichment/mesh/ply_reader.hpp"
 
 namespace deformation_enrichment::mesh {
 namespace {
@@ -27,27 +27,6 @@ Format formatOf(const std::string& path) {
   if (ext == "obj") return Format::Obj;
   if (ext == "ply") return Format::Ply;
   throw IoError("mesh file '" + path + "' has an unsupported extension (expected .obj or .ply)");
-}
-
-TriangleMesh fromPolygonMesh(const pcl::PolygonMesh& polygons, const std::string& path) {
-  const pcl::PCLPointCloud2& cloud = polygons.cloud;
-  PointCloudLayout layout;
-  for (const auto& field : cloud.fields) layout.fields.push_back({field.name, field.offset, field.datatype, field.count});
-  layout.width = cloud.width;
-  layout.height = cloud.height;
-  layout.pointStep = cloud.point_step;
-  layout.rowStep = cloud.row_step;
-  layout.isBigEndian = cloud.is_bigendian;
-  TriangleMesh mesh;
-  try {
-    mesh = triangleMeshFromCloud(layout, cloud.data.data(), cloud.data.size(), polygons.polygons,
-                                 [](const pcl::Vertices& polygon) -> const auto& { return polygon.vertices; });
-  } catch (const InvalidInputError& e) {
-    throw IoError("mesh file '" + path + "': " + e.what());
-  }
-  for (Eigen::Index v = 0; v < mesh.numVertices(); ++v)
-    if (!mesh.vertices.col(v).allFinite()) throw IoError("mesh file '" + path + "': vertex " + std::to_string(v) + " is not finite");
-  return mesh;
 }
 
 pcl::PolygonMesh toPolygonMesh(const TriangleMesh& mesh) {
@@ -69,12 +48,9 @@ pcl::PolygonMesh toPolygonMesh(const TriangleMesh& mesh) {
 
 TriangleMesh readTriangleMesh(const std::string& path) {
   const Format format = formatOf(path);
-  if (!std::ifstream(path).good()) throw IoError("mesh file '" + path + "' cannot be opened");
-  pcl::PolygonMesh polygons;
-  const int status =
-      format == Format::Obj ? pcl::io::loadOBJFile(path, polygons) : pcl::io::loadPLYFile(path, polygons);
-  if (status < 0) throw IoError("mesh file '" + path + "' could not be parsed");
-  return fromPolygonMesh(polygons, path);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError("mesh file '" + path + "' cannot be opened");
+  return format == Format::Obj ? readObj(in, path) : readPly(in, path);
 }
 
 void writeTriangleMesh(const std::string& path, const TriangleMesh& mesh) {

@@ -32,6 +32,8 @@ std::array<std::uint32_t, 3> xyzOffsets(const PointCloudLayout& layout, std::siz
 Eigen::Matrix3Xf decodePositions(const PointCloudLayout& layout, const std::uint8_t* data, std::size_t size) {
   const auto offsets = xyzOffsets(layout, size);
   Eigen::Matrix3Xf positions(3, static_cast<Eigen::Index>(layout.width) * layout.height);
+  // Without points the rows are empty: a lying height of 4e9 must not cost 4e9 loop turns.
+  if (positions.cols() == 0) return positions;
   Eigen::Index index = 0;
   for (std::uint32_t row = 0; row < layout.height; ++row) {
     const std::uint8_t* point = data + static_cast<std::size_t>(row) * layout.rowStep;
@@ -48,6 +50,7 @@ void encodePositions(const Eigen::Matrix3Xf& positions, const PointCloudLayout& 
   if (points != static_cast<std::uint64_t>(positions.cols()))
     throw InvalidInputError("cannot write " + std::to_string(positions.cols()) + " positions into a cloud of " +
                             std::to_string(points) + " points");
+  if (points == 0) return;  // as in decodePositions
   Eigen::Index index = 0;
   for (std::uint32_t row = 0; row < layout.height; ++row) {
     std::uint8_t* point = data + static_cast<std::size_t>(row) * layout.rowStep;

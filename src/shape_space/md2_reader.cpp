@@ -51,7 +51,7 @@ Md2Animation readMd2(const std::string& path) {
   int32_t* fields = &h.skinWidth;
   for (int k = 0; k < 15; ++k) fields[k] = readInt32(bytes, 8 + 4 * size_t(k));
   if (h.numVertices <= 0 || h.numTriangles <= 0 || h.numFrames <= 0) fail("no vertices, triangles or frames");
-  if (h.frameSize != 40 + 4 * h.numVertices) fail("frame size does not match the vertex count");
+  if (int64_t(h.frameSize) != 40 + 4 * int64_t(h.numVertices)) fail("frame size does not match the vertex count");
   const auto inside = [&](int64_t offset, int64_t count, int64_t stride) {
     return offset >= 68 && count >= 0 && offset + count * stride <= int64_t(bytes.size());
   };

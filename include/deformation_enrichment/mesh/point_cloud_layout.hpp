@@ -1,8 +1,8 @@
 #pragma once
 // Raw point-cloud buffers as sensor_msgs/PointCloud2 and pcl::PCLPointCloud2 lay them out: width x height
 // points of point_step bytes, rows row_step bytes apart, named typed fields at byte offsets inside a
-// point. Described without ROS or PCL types, so the ROS layer, the mesh readers and the fuzz harnesses
-// share one validation of untrusted buffers. Positions are float32 x, y, z (docs/design.md §3).
+// point. Described without ROS or PCL types, so the ROS adapters and the fuzz harnesses
+// share one validation of untrusted buffers. Positions are float32 x, y, z.
 #include <Eigen/Core>
 #include <array>
 #include <cstddef>

@@ -2,9 +2,6 @@
 
 #include <sensor_msgs/point_cloud2_iterator.h>
 
-#include <string>
-
-#include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/point_cloud_layout.hpp"
 #include "deformation_enrichment/mesh/triangle_mesh_from_cloud.hpp"
 

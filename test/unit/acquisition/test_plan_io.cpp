@@ -7,6 +7,7 @@
 
 #include "deformation_enrichment/acquisition/plan_io.hpp"
 #include "deformation_enrichment/error.hpp"
+#include "../expect_error.hpp"
 
 using namespace deformation_enrichment;
 
@@ -19,14 +20,8 @@ std::vector<acquisition::PlanEntry> parse(const std::string& text) {
   return acquisition::readPlan(in, "plan.csv");
 }
 
-/// Expects parsing `text` to throw IoError whose message contains `fragment`.
 void expectRejected(const std::string& text, const std::string& fragment) {
-  try {
-    parse(text);
-    ADD_FAILURE() << "accepted: " << text;
-  } catch (const IoError& e) {
-    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-  }
+  expectErrorContaining<IoError>([&] { parse(text); }, fragment);
 }
 
 }  // namespace

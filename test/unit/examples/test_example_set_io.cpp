@@ -156,6 +156,21 @@ TEST_F(ExampleSetIo, WrongVersionIsRejected) {
   expectRejected("unsupported format_version 99");
 }
 
+TEST_F(ExampleSetIo, IntegersOutsideIntAreRejectedNotWrapped) {
+  // get<int>() wrapped these to the valid 1 and 8: the lying manifest loaded.
+  nlohmann::json m = manifest();
+  m["format_version"] = 4294967297ULL;
+  writeManifest(m);
+  expectRejected("field manifest.format_version is outside the int range");
+  m["format_version"] = ex::kExampleSetFormatVersion;
+  m["examples"][0]["stamp_rows"] = 4294967304LL;
+  writeManifest(m);
+  expectRejected("field manifest.examples[0].stamp_rows is outside the int range");
+  m["examples"][0]["stamp_rows"] = -4294967288LL;
+  writeManifest(m);
+  expectRejected("field manifest.examples[0].stamp_rows is outside the int range");
+}
+
 TEST_F(ExampleSetIo, MissingFieldIsRejected) {
   nlohmann::json m = manifest();
   m["examples"][1].erase("stamp_radius");

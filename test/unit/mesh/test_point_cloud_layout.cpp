@@ -2,6 +2,7 @@
 // triangleMeshFromMessage): valid layouts round-trip, every inconsistency is named.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -9,6 +10,7 @@
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/point_cloud_layout.hpp"
 #include "deformation_enrichment/mesh/triangle_mesh_from_cloud.hpp"
+#include "../expect_error.hpp"
 
 namespace de = deformation_enrichment;
 namespace mesh = deformation_enrichment::mesh;
@@ -41,12 +43,8 @@ Eigen::Matrix3Xf ramp(Eigen::Index n) {
 }
 
 void expectInvalid(const Cloud& c, const std::string& fragment) {
-  try {
-    mesh::decodePositions(c.layout, c.data.data(), c.data.size());
-    ADD_FAILURE() << "accepted a bad cloud (expected: " << fragment << ")";
-  } catch (const de::InvalidInputError& e) {
-    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-  }
+  expectErrorContaining<de::InvalidInputError>([&] { mesh::decodePositions(c.layout, c.data.data(), c.data.size()); },
+                                               fragment);
 }
 
 }  // namespace
@@ -120,4 +118,17 @@ TEST(TriangleMeshFromCloud, FanTriangulatesPolygonsAndNamesBadOnes) {
   EXPECT_EQ(message(c, {{0, 1}}), "mesh has no triangles");
   EXPECT_EQ(message(c, {{0, 1, 4}}), "polygon 0 references vertex 4 of 4");
   EXPECT_EQ(message(makeCloud(0, 1), quad), "mesh has no vertices");
+}
+
+TEST(PointCloudLayout, NoPointsMeansNoWorkWhateverTheHeightSays) {
+  // fuzz_point_cloud: width 0 and height ~4e9 (an empty buffer matches) made both loops turn 4e9 times.
+  mesh::PointCloudLayout layout = makeCloud(1, 1).layout;
+  layout.width = 0;
+  layout.height = 0xFFFFFFFFu;
+  layout.rowStep = 0;
+  const std::uint8_t none = 0;
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(mesh::decodePositions(layout, &none, 0).cols(), 0);
+  mesh::encodePositions(Eigen::Matrix3Xf(3, 0), layout, nullptr, 0);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 0.5);
 }

@@ -3,11 +3,13 @@
 #include <cstdio>
 #include <unistd.h>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/grid_tet_mesh.hpp"
 #include "deformation_enrichment/mesh/tetgen_io.hpp"
+#include "../expect_error.hpp"
 
 using namespace deformation_enrichment;
 
@@ -103,4 +105,46 @@ TEST(TetGenIo, ReadsRealTetGenOutput) {
   // TetGen writes every tet with the same orientation: either all or none needed flipping.
   EXPECT_TRUE(read.reorientedTets == 0 || read.reorientedTets == 80) << read.reorientedTets;
   std::printf("tetgen tets reoriented: %d of 80\n", read.reorientedTets);
+}
+
+namespace {
+/// readTetGen on in-memory texts must throw IoError whose message contains `fragment`.
+void expectRejectedText(const std::string& node, const std::string& ele, const std::string& fragment) {
+  std::istringstream nodeIn(node), eleIn(ele);
+  expectErrorContaining<IoError>([&] { mesh::readTetGen(nodeIn, eleIn, "mem"); }, fragment);
+}
+}  // namespace
+
+TEST(TetGenIo, StreamEntryPointReadsWhatTheFilesHold) {
+  std::istringstream node(kNode), ele("1 4 0\n1 1 2 3 4\n");
+  const mesh::TetGenMesh read = mesh::readTetGen(node, ele, "mem");
+  EXPECT_EQ(read.mesh.numVertices(), 4);
+  EXPECT_EQ(read.mesh.tets.col(0), Eigen::Vector4i(0, 1, 2, 3));
+}
+
+// Inputs the fuzzer (scripts/fuzz, fuzz_tetgen) or its review found; each was undefined behaviour, an
+// unbounded allocation or a broken promise before.
+TEST(TetGenIo, HostileCountsAndIndicesAreRejectedNotOverflowed) {
+  const std::string ele = "1 4 0\n1 1 2 3 4\n";
+  // Node index LONG_MIN: `index - base` overflowed.
+  expectRejectedText(kNode, "1 4 0\n1 -9223372036854775808 2 3 4\n", "out of range");
+  // Attribute counts near LONG_MAX: `4 + attributes + markers` overflowed.
+  expectRejectedText("1 3 9223372036854775807 1\n1 0 0 0\n", ele, "expected 9223372036854775812");
+  expectRejectedText(kNode, "1 4 9223372036854775807\n1 1 2 3 4\n", "expected 9223372036854775812");
+  // A header that lies about the count: nothing is allocated for 10^18 points or tets up front.
+  expectRejectedText("1000000000000000000 3 0 0\n1 0 0 0\n", ele, "point 1 is missing");
+  expectRejectedText(kNode, "1000000000000000000 4 0\n1 1 2 3 4\n", "tetrahedron 1 is missing");
+  // A region attribute outside int: lround gave an unspecified value.
+  expectRejectedText(kNode, "1 4 1\n1 1 2 3 4 1e300\n", "outside the int range");
+  // Coordinates so large that the volume overflows.
+  expectRejectedText("4 3 0 0\n1 0 0 0\n2 1e200 0 0\n3 0 1e200 0\n4 0 0 1e200\n", ele, "not finite");
+}
+
+TEST(TetGenIo, TetWhoseOrientationIsLostInRoundingIsFlat) {
+  // fuzz_tetgen: the determinant is negative, and after flipping the tet it is zero (the huge z
+  // cancels), so readTetGen returned a tet that mesh::validate rejects as non-positive.
+  const std::string node =
+      "4 3 0 0\n1 0.01 0.01 0\n2 0.014166666666666668 0.0058333333333333336 0.01\n"
+      "3 0.014166666666666668 0.0058333333333333336 0\n4 0 0 14166666666666666\n";
+  expectRejectedText(node, "1 4 0\n1 1 2 3 4\n", "zero volume");
 }
