@@ -1,5 +1,6 @@
 #include "deformation_enrichment/mesh/tetgen_io.hpp"
 
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -7,6 +8,7 @@
 #include <vector>
 
 #include "deformation_enrichment/error.hpp"
+#include "tet_collector.hpp"
 
 namespace deformation_enrichment::mesh {
 namespace {
@@ -19,9 +21,7 @@ struct Record {
 
 class RecordReader {
 public:
-  explicit RecordReader(std::string path) : path_(std::move(path)), in_(path_) {
-    if (!in_) throw IoError("cannot open TetGen file " + path_);
-  }
+  RecordReader(std::istream& in, std::string path) : path_(std::move(path)), in_(in) {}
 
   /// Next record; throws IoError when the file ends early (`what` says what was expected).
   Record next(const std::string& what) {
@@ -73,17 +73,18 @@ public:
 
 private:
   std::string path_;
-  std::ifstream in_;
+  std::istream& in_;
   int line_ = 0;
 };
 
 }  // namespace
 
-TetGenMesh readTetGen(const std::string& base) {
+TetGenMesh readTetGen(std::istream& nodeStream, std::istream& eleStream, const std::string& base) {
   TetGenMesh result;
   int indexBase = 0;
+  Eigen::Matrix3Xd vertices;
   {
-    RecordReader node(base + ".node");
+    RecordReader node(nodeStream, base + ".node");
     const Record header = node.next("the header");
     const long count = node.integer(header, 0, "point count");
     const long dimension = header.fields.size() > 1 ? node.integer(header, 1, "dimension") : 3;
@@ -92,7 +93,7 @@ TetGenMesh readTetGen(const std::string& base) {
     if (count <= 0) node.fail(header.line, "point count must be positive, got " + std::to_string(count));
     if (dimension != 3) node.fail(header.line, "dimension must be 3, got " + std::to_string(dimension));
     if (attributes < 0 || markers < 0 || markers > 1) node.fail(header.line, "invalid attribute/marker counts");
-    result.mesh.vertices.resize(3, count);
+    std::vector<Eigen::Vector3d> points;  // grows with the file: a corrupt count cannot exhaust memory
     for (long i = 0; i < count; ++i) {
       const Record record = node.next("point " + std::to_string(i));
       const long index = node.integer(record, 0, "point index");
@@ -106,10 +107,13 @@ TetGenMesh readTetGen(const std::string& base) {
       if (static_cast<long>(record.fields.size()) < 4 + attributes + markers)
         node.fail(record.line, "point has " + std::to_string(record.fields.size()) + " fields, expected " +
                                    std::to_string(4 + attributes + markers));
-      for (int k = 0; k < 3; ++k) result.mesh.vertices(k, i) = node.real(record, 1 + k, "coordinate");
+      points.emplace_back(node.real(record, 1, "coordinate"), node.real(record, 2, "coordinate"),
+                          node.real(record, 3, "coordinate"));
     }
+    vertices.resize(3, count);
+    for (long i = 0; i < count; ++i) vertices.col(i) = points[static_cast<size_t>(i)];
   }
-  RecordReader ele(base + ".ele");
+  RecordReader ele(eleStream, base + ".ele");
   const Record header = ele.next("the header");
   const long count = ele.integer(header, 0, "tetrahedron count");
   const long corners = header.fields.size() > 1 ? ele.integer(header, 1, "nodes per tetrahedron") : 4;
@@ -117,9 +121,8 @@ TetGenMesh readTetGen(const std::string& base) {
   if (count <= 0) ele.fail(header.line, "tetrahedron count must be positive, got " + std::to_string(count));
   if (corners != 4 && corners != 10) ele.fail(header.line, "nodes per tetrahedron must be 4 or 10");
   if (attributes < 0) ele.fail(header.line, "negative attribute count");
-  result.mesh.tets.resize(4, count);
-  result.region = Eigen::VectorXi::Zero(count);
-  const long vertexCount = result.mesh.numVertices();
+  detail::TetCollector tets(base + ".ele", "line");
+  const long vertexCount = vertices.cols();
   for (long t = 0; t < count; ++t) {
     const Record record = ele.next("tetrahedron " + std::to_string(t));
     const long index = ele.integer(record, 0, "tetrahedron index");
@@ -129,25 +132,34 @@ TetGenMesh readTetGen(const std::string& base) {
     if (static_cast<long>(record.fields.size()) < 1 + corners + attributes)
       ele.fail(record.line, "tetrahedron has " + std::to_string(record.fields.size()) + " fields, expected " +
                                 std::to_string(1 + corners + attributes));
-    for (int k = 0; k < 4; ++k) {
-      const long vertex = ele.integer(record, 1 + k, "node index") - indexBase;
-      if (vertex < 0 || vertex >= vertexCount)
+    std::array<long, 4> tet{};
+    for (size_t k = 0; k < 4; ++k) {
+      tet[k] = ele.integer(record, 1 + k, "node index") - indexBase;
+      if (tet[k] < 0 || tet[k] >= vertexCount)
         ele.fail(record.line, "node index " + record.fields[1 + k] + " out of range (" +
                                   std::to_string(vertexCount) + " points, base " + std::to_string(indexBase) + ")");
-      for (int j = 0; j < k; ++j)
-        if (result.mesh.tets(j, t) == vertex) ele.fail(record.line, "repeated node index " + record.fields[1 + k]);
-      result.mesh.tets(k, t) = static_cast<int>(vertex);
     }
-    if (attributes > 0)
-      result.region[t] = static_cast<int>(std::lround(ele.real(record, 1 + corners, "region attribute")));
-    const double volume = signedVolume(result.mesh, t);
-    if (volume == 0.0 || !std::isfinite(volume)) ele.fail(record.line, "tetrahedron has zero volume");
-    if (volume < 0.0) {
-      std::swap(result.mesh.tets(2, t), result.mesh.tets(3, t));
-      ++result.reorientedTets;
-    }
+    const int region =
+        attributes > 0 ? static_cast<int>(std::lround(ele.real(record, 1 + corners, "region attribute"))) : 0;
+    tets.add(tet, region, record.line);
   }
+  std::vector<long> ids(static_cast<size_t>(vertexCount));
+  for (long i = 0; i < vertexCount; ++i) ids[static_cast<size_t>(i)] = i + indexBase;
+  VolumeMeshFile file = tets.finish(std::move(vertices), std::move(ids));
+  result.mesh = std::move(file.mesh);
+  result.region = std::move(file.region);
+  result.reorientedTets = file.report.reorientedTets;
+  result.unusedNodes = file.report.unusedNodes;
+  result.indexBase = indexBase;
   return result;
+}
+
+TetGenMesh readTetGen(const std::string& base) {
+  std::ifstream node(base + ".node");
+  if (!node) throw IoError("cannot open TetGen file " + base + ".node");
+  std::ifstream ele(base + ".ele");
+  if (!ele) throw IoError("cannot open TetGen file " + base + ".ele");
+  return readTetGen(node, ele, base);
 }
 
 void writeTetGen(const std::string& base, const TetMesh& mesh, const Eigen::VectorXi& region) {
