@@ -11,6 +11,7 @@
 #include "cgal_data.hpp"
 
 #include "deformation_enrichment/error.hpp"
+#include "expect_io_error.hpp"
 #include "deformation_enrichment/mesh/grid_tet_mesh.hpp"
 #include "deformation_enrichment/mesh/mesh_io.hpp"
 #include "deformation_enrichment/mesh/surface_report.hpp"
@@ -90,16 +91,6 @@ std::string binaryStl(const std::vector<std::array<float, 9>>& facets, const cha
 const std::vector<std::array<float, 9>> kTetFacets = {{0, 0, 0, 0, 1, 0, 1, 0, 0}, {0, 0, 0, 1, 0, 0, 0, 0, 1},
                                                       {0, 0, 0, 0, 0, 1, 0, 1, 0}, {1, 0, 0, 0, 1, 0, 0, 0, 1}};
 
-/// Expects `read` to throw IoError whose message contains every fragment.
-template <class Read>
-void expectIoError(Read read, const std::vector<std::string>& fragments) {
-  try {
-    read();
-    ADD_FAILURE() << "no IoError";
-  } catch (const IoError& error) {
-    for (const auto& fragment : fragments) EXPECT_NE(std::string(error.what()).find(fragment), std::string::npos) << error.what();
-  }
-}
 }  // namespace
 
 TEST(MeshIo, ReadsCgalOffAndStlMeshes) {
@@ -154,13 +145,13 @@ TEST(MeshIo, CorruptOffAndStlNameFileAndPosition) {
       mesh::readTriangleMesh(in, mesh::SurfaceFormat::Off, "bad.off");
     };
   };
-  expectIoError(readOff("OFF\n3 1 0\n0 0 0\n1 0 0\n"), {"bad.off", "OFF", "line"});
-  expectIoError(readOff("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n"), {"bad.off", "line 6"});
-  expectIoError(readOff("OFF\n3 1 0\n0 0 0\n1 0 x\n0 1 0\n3 0 1 2\n"), {"bad.off", "line 4"});
-  expectIoError(readOff("OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n"), {"bad.off", "no triangles"});
+  test::expectIoError(readOff("OFF\n3 1 0\n0 0 0\n1 0 0\n"), {"bad.off", "OFF", "line"});
+  test::expectIoError(readOff("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n"), {"bad.off", "line 6"});
+  test::expectIoError(readOff("OFF\n3 1 0\n0 0 0\n1 0 x\n0 1 0\n3 0 1 2\n"), {"bad.off", "line 4"});
+  test::expectIoError(readOff("OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n"), {"bad.off", "no triangles"});
   std::string truncated = binaryStl(kTetFacets);
   truncated.resize(truncated.size() - 30);
-  expectIoError(
+  test::expectIoError(
       [&] {
         std::istringstream in(truncated, std::ios::binary);
         mesh::readTriangleMesh(in, mesh::SurfaceFormat::Stl, "cut.stl");

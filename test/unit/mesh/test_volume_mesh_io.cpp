@@ -8,6 +8,7 @@
 #include <string>
 
 #include "deformation_enrichment/error.hpp"
+#include "expect_io_error.hpp"
 #include "deformation_enrichment/mesh/gmsh_io.hpp"
 #include "deformation_enrichment/mesh/grid_tet_mesh.hpp"
 #include "deformation_enrichment/mesh/volume_mesh_io.hpp"
@@ -50,16 +51,6 @@ double totalVolume(const mesh::TetMesh& mesh) {
   double volume = 0.0;
   for (Eigen::Index t = 0; t < mesh.numTets(); ++t) volume += mesh::signedVolume(mesh, t);
   return volume;
-}
-
-template <class Read>
-void expectIoError(Read read, const std::vector<std::string>& fragments) {
-  try {
-    read();
-    ADD_FAILURE() << "no IoError";
-  } catch (const IoError& error) {
-    for (const auto& fragment : fragments) EXPECT_NE(std::string(error.what()).find(fragment), std::string::npos) << error.what();
-  }
 }
 
 mesh::VolumeMeshFile readMsh(const std::string& text) {
@@ -134,18 +125,18 @@ TEST_F(VolumeMeshIo, GmshInvertedTetsAreReorderedAndBadFilesNamed) {
   EXPECT_NO_THROW(mesh::validate(read.mesh));
   EXPECT_EQ(read.nodeIds.back(), 9);
   const std::string elements = "$Elements\n1\n1 4 0 1 2 3 4\n$EndElements\n";
-  expectIoError([&] { readMsh(header + nodes + "$Elements\n1\n1 4 0 1 2 3 8\n$EndElements\n"); },
+  test::expectIoError([&] { readMsh(header + nodes + "$Elements\n1\n1 4 0 1 2 3 8\n$EndElements\n"); },
                 {"test.msh:14:", "node tag 8"});
-  expectIoError([&] { readMsh(header + "$Nodes\n1\n1 0 x 0\n$EndNodes\n" + elements); }, {"test.msh:6:", "'x'"});
-  expectIoError([&] { readMsh(header + nodes + "$Elements\n1\n1 99 0 1\n$EndElements\n"); }, {":14:", "type 99"});
-  expectIoError([&] { readMsh(header + nodes + "$Elements\n1\n1 4 0 1 2 2 4\n$EndElements\n"); }, {":14:", "repeated"});
-  expectIoError([&] { readMsh(header + nodes + "$Elements\n1\n1 4 0 1 2 3 5\n$EndElements\n"); }, {":14:", "node tag 5"});
-  expectIoError([&] { readMsh("$MeshFormat\n4 0 8\n$EndMeshFormat\n"); }, {"test.msh:2:", "version 4"});
-  expectIoError([&] { readMsh(header + nodes); }, {"no $Elements"});
-  expectIoError([&] { readMsh(header + nodes + "$Elements\n2\n1 4 0 1 2 3 4\n"); }, {"test.msh", "ends"});
-  expectIoError([&] { readMsh(header + nodes + "$Elements\n1\n1 2 0 1 2 3\n$EndElements\n"); }, {"no tetrahedra"});
-  expectIoError([&] { readMsh(header + "$Junk\n"); }, {"$Junk has no $EndJunk"});
-  expectIoError([&] { mesh::readGmsh(path("missing.msh")); }, {"missing.msh"});
+  test::expectIoError([&] { readMsh(header + "$Nodes\n1\n1 0 x 0\n$EndNodes\n" + elements); }, {"test.msh:6:", "'x'"});
+  test::expectIoError([&] { readMsh(header + nodes + "$Elements\n1\n1 99 0 1\n$EndElements\n"); }, {":14:", "type 99"});
+  test::expectIoError([&] { readMsh(header + nodes + "$Elements\n1\n1 4 0 1 2 2 4\n$EndElements\n"); }, {":14:", "repeated"});
+  test::expectIoError([&] { readMsh(header + nodes + "$Elements\n1\n1 4 0 1 2 3 5\n$EndElements\n"); }, {":14:", "node tag 5"});
+  test::expectIoError([&] { readMsh("$MeshFormat\n4 0 8\n$EndMeshFormat\n"); }, {"test.msh:2:", "version 4"});
+  test::expectIoError([&] { readMsh(header + nodes); }, {"no $Elements"});
+  test::expectIoError([&] { readMsh(header + nodes + "$Elements\n2\n1 4 0 1 2 3 4\n"); }, {"test.msh", "ends"});
+  test::expectIoError([&] { readMsh(header + nodes + "$Elements\n1\n1 2 0 1 2 3\n$EndElements\n"); }, {"no tetrahedra"});
+  test::expectIoError([&] { readMsh(header + "$Junk\n"); }, {"$Junk has no $EndJunk"});
+  test::expectIoError([&] { mesh::readGmsh(path("missing.msh")); }, {"missing.msh"});
 }
 
 TEST_F(VolumeMeshIo, TruncatedBinaryGmshNamesTheByte) {
@@ -154,7 +145,7 @@ TEST_F(VolumeMeshIo, TruncatedBinaryGmshNamesTheByte) {
   std::ifstream in(path("boxes.msh"), std::ios::binary);
   std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
   bytes.resize(bytes.size() * 2 / 3);  // inside the binary $Nodes or $Elements data
-  expectIoError([&] { readMsh(bytes); }, {"test.msh: byte ", "file ends inside"});
+  test::expectIoError([&] { readMsh(bytes); }, {"test.msh: byte ", "file ends inside"});
 }
 
 TEST_F(VolumeMeshIo, VtkWritersOutputReadsBackExactly) {
@@ -201,16 +192,16 @@ TEST_F(VolumeMeshIo, CorruptVtkFilesNameFileAndProblem) {
       mesh::readVtk(in, false, "bad.vtk");
     };
   };
-  expectIoError(readLegacy(legacy + "0 0 0 1 0 0 0 1 0\n"), {"bad.vtk", "mismatch"});  // 3 of 4 points
-  expectIoError(readLegacy(legacy + "0 0 0 1 0 0 0 1 0 0 0 1\nCELLS 1 5\n4 0 1 2 9\nCELL_TYPES 1\n10\n"),
+  test::expectIoError(readLegacy(legacy + "0 0 0 1 0 0 0 1 0\n"), {"bad.vtk", "mismatch"});  // 3 of 4 points
+  test::expectIoError(readLegacy(legacy + "0 0 0 1 0 0 0 1 0 0 0 1\nCELLS 1 5\n4 0 1 2 9\nCELL_TYPES 1\n10\n"),
                 {"bad.vtk: cell 0:", "out of range"});
-  expectIoError(readLegacy("# vtk DataFile Version 2.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 1 double\n0 0 0\n"),
+  test::expectIoError(readLegacy("# vtk DataFile Version 2.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 1 double\n0 0 0\n"),
                 {"bad.vtk", "polydata"});
-  expectIoError(readLegacy("garbage"), {"bad.vtk"});
-  expectIoError(readLegacy(""), {"bad.vtk", "empty"});
+  test::expectIoError(readLegacy("garbage"), {"bad.vtk"});
+  test::expectIoError(readLegacy(""), {"bad.vtk", "empty"});
   std::istringstream xml("<VTKFile type=\"UnstructuredGrid\"><Unstru");
-  expectIoError([&] { mesh::readVtk(xml, true, "bad.vtu"); }, {"bad.vtu", "line 1, column"});
-  expectIoError([&] { mesh::readVolumeMesh(path("missing.vtu")); }, {"missing.vtu"});
+  test::expectIoError([&] { mesh::readVtk(xml, true, "bad.vtu"); }, {"bad.vtu", "line 1, column"});
+  test::expectIoError([&] { mesh::readVolumeMesh(path("missing.vtu")); }, {"missing.vtu"});
 }
 
 TEST_F(VolumeMeshIo, DispatchByExtension) {
@@ -223,5 +214,5 @@ TEST_F(VolumeMeshIo, DispatchByExtension) {
   }
   EXPECT_EQ(mesh::volumeFormatOf("A.MSH"), mesh::VolumeFormat::Gmsh);
   EXPECT_EQ(mesh::volumeFormatOf("a.vtu"), mesh::VolumeFormat::VtkXml);
-  expectIoError([] { mesh::readVolumeMesh("liver.obj"); }, {"liver.obj", "unsupported extension"});
+  test::expectIoError([] { mesh::readVolumeMesh("liver.obj"); }, {"liver.obj", "unsupported extension"});
 }
