@@ -63,6 +63,13 @@ de_add_layer(geometry Eigen3::Eigen)
 target_include_directories(deformation_enrichment_geometry SYSTEM PRIVATE ${PCL_INCLUDE_DIRS})
 target_compile_definitions(deformation_enrichment_geometry PRIVATE ${PCL_DEFINITIONS})
 target_link_libraries(deformation_enrichment_geometry PRIVATE ${PCL_LIBRARIES})
+# VTK (already pulled in by PCL) reads and writes unstructured grids and makes surfaces from label images;
+# CGAL's header-only ImageIO reads the images, gzipped ones through zlib. All private like PCL.
+find_package(VTK REQUIRED COMPONENTS CommonCore CommonDataModel FiltersCore ImagingGeneral IOLegacy IOXML)
+find_package(ZLIB REQUIRED)
+target_link_libraries(deformation_enrichment_geometry PRIVATE VTK::CommonCore VTK::CommonDataModel VTK::FiltersCore
+  VTK::ImagingGeneral VTK::IOLegacy VTK::IOXML ZLIB::ZLIB)
+target_compile_definitions(deformation_enrichment_geometry PRIVATE CGAL_USE_ZLIB)
 de_add_layer(descriptors deformation_enrichment_geometry)
 de_add_layer(runtime deformation_enrichment_descriptors ${OpenCV_LIBS})
 target_link_libraries(deformation_enrichment_runtime PRIVATE yaml-cpp)
