@@ -189,7 +189,8 @@ if(DE_BUILD_TESTS AND TARGET de_make_examples AND TARGET de_evaluate)
     $<TARGET_FILE_DIR:de_make_examples> ${DE_TEST_SLAB_SET})
   set_tests_properties(slab_example_set PROPERTIES FIXTURES_SETUP slab_set TIMEOUT 600)
   add_test(NAME slab_held_out_accuracy COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/test/accuracy/held_out_ratio.py
-    $<TARGET_FILE_DIR:de_evaluate> ${DE_TEST_SLAB_SET} 0.45)
+    $<TARGET_FILE_DIR:de_evaluate> ${DE_TEST_SLAB_SET} 0.45 --scene slab
+    --contacts ${PROJECT_SOURCE_DIR}/config/scenes/slab_held_out.csv)
   set_tests_properties(slab_held_out_accuracy PROPERTIES FIXTURES_REQUIRED slab_set TIMEOUT 600)
 endif()
 

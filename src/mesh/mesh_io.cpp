@@ -22,6 +22,7 @@
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/obj_reader.hpp"
 #include "deformation_enrichment/mesh/ply_reader.hpp"
+#include "deformation_enrichment/mesh/polygon_triangulation.hpp"
 
 namespace deformation_enrichment::mesh {
 namespace {

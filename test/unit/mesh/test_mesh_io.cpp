@@ -157,8 +157,11 @@ TEST(MeshIo, CorruptOffAndStlNameFileAndPosition) {
         mesh::readTriangleMesh(in, mesh::SurfaceFormat::Stl, "cut.stl");
       },
       {"cut.stl", "STL", "byte"});
-  std::istringstream obj("v 0 0 0\n");
-  EXPECT_THROW(mesh::readTriangleMesh(obj, mesh::SurfaceFormat::Obj, "x.obj"), InvalidInputError);
+  // OBJ and PLY streams go to the core's readers: a file without faces is refused naming the source.
+  std::istringstream faceless("v 0 0 0\n");
+  EXPECT_THROW(mesh::readTriangleMesh(faceless, mesh::SurfaceFormat::Obj, "x.obj"), IoError);
+  std::istringstream triangle("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  EXPECT_EQ(mesh::readTriangleMesh(triangle, mesh::SurfaceFormat::Obj, "t.obj").numTriangles(), 1);
 }
 
 TEST(SurfaceReport, CountsDuplicatesDegenerateOpenAndNonManifoldEdges) {
