@@ -73,8 +73,11 @@ target_compile_definitions(deformation_enrichment_geometry PRIVATE CGAL_USE_ZLIB
 de_add_layer(descriptors deformation_enrichment_geometry)
 de_add_layer(runtime deformation_enrichment_descriptors ${OpenCV_LIBS})
 target_link_libraries(deformation_enrichment_runtime PRIVATE yaml-cpp)
-# Shipped scenes (config/scenes/<name>.yaml): installed share folder first, then the source tree.
+# Shipped scenes (config/scenes/<name>.yaml): those the build generates (the liver) first, then the installed
+# share folder, then the source tree.
+set(DE_GENERATED_SCENE_DIR ${CMAKE_BINARY_DIR}/scenes)
 target_compile_definitions(deformation_enrichment_runtime PRIVATE
+  DE_GENERATED_SCENE_DIR="${DE_GENERATED_SCENE_DIR}"
   DE_SOURCE_SCENE_DIR="${PROJECT_SOURCE_DIR}/config/scenes"
   DE_INSTALL_SCENE_DIR="${CMAKE_INSTALL_PREFIX}/share/${PROJECT_NAME}/config/scenes")
 de_add_layer(simulation deformation_enrichment_runtime)
@@ -199,4 +202,19 @@ if(DE_BUILD_TESTS AND TARGET de_make_examples AND TARGET de_merge_examples)
   add_test(NAME shards_in_parallel COMMAND bash ${PROJECT_SOURCE_DIR}/test/acquisition/shards_in_parallel.sh
     ${PROJECT_SOURCE_DIR} $<TARGET_FILE_DIR:de_make_examples>)
   set_tests_properties(shards_in_parallel PROPERTIES TIMEOUT 600)
+endif()
+
+# The liver scene (docs/liver.md): CGAL's segmented liver CT meshed by de_mesh_image into the build tree, with
+# its scene file beside the meshes. Deterministic; nothing generated is committed.
+set(DE_LIVER_IMAGE_ARCHIVE /usr/share/doc/libcgal-demo/data.tar.gz)
+if(TARGET de_mesh_image AND EXISTS ${DE_LIVER_IMAGE_ARCHIVE})
+  set(liver_dir ${DE_GENERATED_SCENE_DIR}/liver)
+  add_custom_command(OUTPUT ${liver_dir}/display.obj ${liver_dir}/coarse.node ${liver_dir}/coarse.ele
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${liver_dir}
+    COMMAND tar xzf ${DE_LIVER_IMAGE_ARCHIVE} -C ${liver_dir} --strip-components=2 data/images/liver.inr.gz
+    COMMAND $<TARGET_FILE:de_mesh_image> --image ${liver_dir}/liver.inr.gz --output ${liver_dir} > ${liver_dir}/mesh_image.log
+    COMMAND ${CMAKE_COMMAND} -E remove ${liver_dir}/liver.inr.gz
+    DEPENDS de_mesh_image COMMENT "Meshing CGAL's liver CT for the liver scene")
+  configure_file(${PROJECT_SOURCE_DIR}/config/scenes/liver.yaml.in ${DE_GENERATED_SCENE_DIR}/liver.yaml COPYONLY)
+  add_custom_target(liver_scene ALL DEPENDS ${liver_dir}/display.obj ${liver_dir}/coarse.node ${liver_dir}/coarse.ele)
 endif()

@@ -285,7 +285,7 @@ SceneDescription parseSceneText(const std::string& text, const std::string& name
 
 std::vector<std::string> shippedScenes() {
   std::set<std::string> names;
-  for (const fs::path& dir : {fs::path(DE_INSTALL_SCENE_DIR), fs::path(DE_SOURCE_SCENE_DIR)}) {
+  for (const fs::path& dir : {fs::path(DE_GENERATED_SCENE_DIR), fs::path(DE_INSTALL_SCENE_DIR), fs::path(DE_SOURCE_SCENE_DIR)}) {
     std::error_code error;
     for (const auto& entry : fs::directory_iterator(dir, error))
       if (entry.path().extension() == ".yaml") names.insert(entry.path().stem().string());
@@ -301,6 +301,7 @@ std::string findSceneFile(const std::string& nameOrPath) {
   }
   std::vector<fs::path> dirs;
   if (const char* env = std::getenv("DE_SCENE_DIR"); env && *env) dirs.emplace_back(env);
+  dirs.emplace_back(DE_GENERATED_SCENE_DIR);
   dirs.emplace_back(DE_INSTALL_SCENE_DIR);
   dirs.emplace_back(DE_SOURCE_SCENE_DIR);
   for (const fs::path& dir : dirs)

@@ -111,8 +111,8 @@ SceneDescription parseSceneText(const std::string& text, const std::string& name
 std::string sceneYaml(const SceneDescription& scene);
 
 /// `nameOrPath` as a scene file: a path ending in .yaml/.yml, or the name of a shipped scene
-/// (config/scenes/<name>.yaml, found in $DE_SCENE_DIR, then the installed share folder, then the source
-/// tree). Throws IoError listing the shipped scenes when there is no such file.
+/// (config/scenes/<name>.yaml, found in $DE_SCENE_DIR, then among the scenes the build generates (the
+/// liver), then the installed share folder, then the source tree). Throws IoError listing the shipped scenes when there is no such file.
 std::string findSceneFile(const std::string& nameOrPath);
 
 /// Names of the shipped scenes (sorted).
