@@ -12,7 +12,8 @@
 namespace deformation_enrichment::acquisition {
 namespace {
 
-// Display vertices a tool may touch: on the model's touchable boundary and two tool radii from the support.
+// Display vertices a tool may touch: on the model's touchable boundary, two tool radii from the support, and
+// where SceneAcquisition::toolPath accepts a press (both models' boundaries within the tool's reach).
 std::vector<int> touchableSurfaceVertices(const SceneAcquisition& acquisition) {
   const scenes::SceneModels& m = acquisition.models();
   const double keep = 2.0 * acquisition.scene().tool.radius;
@@ -25,7 +26,15 @@ std::vector<int> touchableSurfaceVertices(const SceneAcquisition& acquisition) {
     const Eigen::Vector3d x = m.surface.vertices.col(v);
     const bool nearSupport = std::any_of(m.fine.fixedVertices.begin(), m.fine.fixedVertices.end(),
                                          [&](int f) { return (m.fine.mesh.vertices.col(f) - x).norm() < keep; });
-    if (!nearSupport) vertices.push_back(static_cast<int>(v));
+    if (nearSupport) continue;
+    PlanEntry press;
+    press.point = x;
+    try {
+      acquisition.toolPath(press);
+    } catch (const InvalidInputError&) {
+      continue;
+    }
+    vertices.push_back(static_cast<int>(v));
   }
   return vertices;
 }

@@ -12,6 +12,7 @@
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/barycentric_embedding.hpp"
 #include "deformation_enrichment/mesh/surface_projection.hpp"
+#include "deformation_enrichment/mesh/tet_surface.hpp"
 #include "deformation_enrichment/scenes/tool_loading.hpp"
 
 namespace deformation_enrichment::acquisition {
@@ -21,10 +22,13 @@ using Clock = std::chrono::steady_clock;
 using scene_file::SceneDescription;
 using scene_file::ToolModel;
 
-// One model (coarse or fine) with its finite elements.
+// One model (coarse or fine) with its finite elements and its own boundary: a coarse volume around an
+// embedded display surface has its boundary up to a few millimetres away from it, and the tool loads each
+// model where the tool meets that model's boundary.
 struct Body {
   const scenes::Scene* scene = nullptr;
   std::unique_ptr<elasticity::TetFem> fem;
+  std::unique_ptr<mesh::SurfaceProjector> boundary;
 };
 
 Body makeBody(const scenes::Scene& scene, const SceneDescription& d, double skinYoung) {
@@ -37,6 +41,7 @@ Body makeBody(const scenes::Scene& scene, const SceneDescription& d, double skin
       std::vector<elasticity::StableNeoHookean>{elasticity::StableNeoHookean(bulk.mu, bulk.lambda),
                                                 elasticity::StableNeoHookean(skin.mu, skin.lambda)},
       scene.materialId);
+  body.boundary = std::make_unique<mesh::SurfaceProjector>(mesh::extractSurface(scene.mesh).surface);
   return body;
 }
 
@@ -62,13 +67,14 @@ double solvePath(const Body& body, const ToolPath& path, const SceneDescription&
                  const std::function<void(const Eigen::Matrix3Xd&)>& onStep = {}) {
   const auto start = Clock::now();
   const scenes::Scene& scene = *body.scene;
+  const Eigen::Vector3d contact = body.boundary->project(path.contact).point;
   std::vector<int> tool;
   elasticity::AnchorSprings springs;
   Eigen::Matrix3Xd springRest;
   if (d.tool.model == ToolModel::Dirichlet) {
-    tool = dirichletTool(scene, path.contact, d.tool.radius);
+    tool = dirichletTool(scene, contact, d.tool.radius);
   } else {
-    springs = scenes::toolSprings(scene, path.contact, d.tool.radius, d.tool.stiffness);
+    springs = scenes::toolSprings(scene, contact, d.tool.radius, d.tool.stiffness);
     springRest = springs.targets;
   }
   const double dragDistance = path.drag.norm();
@@ -156,6 +162,14 @@ ToolPath SceneAcquisition::toolPath(const PlanEntry& entry) const {
   for (int k = 0; k < 3; ++k)
     held = held && impl_->fixedSurfaceVertex[static_cast<std::size_t>(impl_->models.surfaceToFine[static_cast<std::size_t>(t(k))])];
   if (held) throw InvalidInputError(scene_.path + ": plan point " + point() + " lands on the fixed region");
+  // The tool loads each model at its own boundary, which for an embedded display surface lies apart from it.
+  for (const Body* body : {&impl_->coarse, &impl_->fine}) {
+    const double gap = body->boundary->project(s.point).distance;
+    if (gap > scene_.tool.radius)
+      throw InvalidInputError(scene_.path + ": at plan point " + point() + " the " + (body == &impl_->coarse ? "coarse" : "fine") +
+                              " model's boundary is " + std::to_string(gap * 1e3) + " mm from the display surface, farther than the "
+                              "tool radius " + std::to_string(scene_.tool.radius * 1e3) + " mm");
+  }
   ToolPath path;
   path.contact = s.point;
   path.inward = -s.normal;

@@ -54,6 +54,8 @@ int main(int argc, char** argv) {
   app.add_option("--sigma-rho", sigmaRho, "fixed kernel width sigma_rho (with --sigma-u: no leave-one-out fit)");
   app.add_option("--sigma-u", sigmaU, "fixed kernel width sigma_u");
   app.add_flag("--no-fit", noFit, "keep default kernel widths instead of the leave-one-out fit");
+  bool noGain = false;
+  app.add_flag("--no-cv-gain", noGain, "do not scale w~ by the cross-validated gain of the fit");
   app.add_flag("--curves", curves, "also score example count, stamp resolution and Hermite order variants");
   app.add_option("--repetitions", repetitions, "enrichments per contact for the median compute time")->check(CLI::PositiveNumber);
   app.add_flag("--json", asJson, "print JSON (always on; kept for the documented command line)");
@@ -86,6 +88,7 @@ int main(int argc, char** argv) {
     enrichment::ExampleBlenderOptions blenderOptions;
     blenderOptions.fitWidths = !noFit && !(sigmaRho > 0.0 && sigmaU > 0.0);
     blenderOptions.lambda = lambda;
+    blenderOptions.crossValidatedGain = !noGain;
     if (sigmaRho > 0.0 && sigmaU > 0.0) blenderOptions.widths = enrichment::KernelWidths{sigmaRho, sigmaU};
     // Leave-one-out needs at least two examples to leave one out.
     const auto blenderFor = [&](const examples::ExampleSet& s) {
@@ -124,6 +127,10 @@ int main(int argc, char** argv) {
                 {"magnitude_aware", !correlationOnly}, {"rim_band", rimBand}, {"gain", gain}, {"lambda", lambda},
                 {"surface_vertices", acq.fineSurface().vertices.cols()},
                 {"sigma_rho", widths.sigmaRho}, {"sigma_u", widths.sigmaU},
+                {"leave_one_out", enricher.blender()->fit() ? json{{"error", enricher.blender()->fit()->bestError},
+                                                                   {"gain", enricher.blender()->gain()},
+                                                                   {"error_with_gain", enricher.blender()->fit()->gainedError}}
+                                                            : json(nullptr)},
                 {"coarse_rms", score.coarseRms}, {"enriched_rms", score.enrichedRms}, {"ratio", score.ratio()},
                 {"coarse_max", score.coarseMax}, {"enriched_max", score.enrichedMax},
                 {"compute_seconds_per_frame", score.secondsPerFrame}, {"per_contact", perContact}};
