@@ -15,6 +15,7 @@
 #include "deformation_enrichment/acquisition/plan_generation.hpp"
 #include "deformation_enrichment/enrichment/example_set_options.hpp"
 #include "deformation_enrichment/enrichment/example_set_reduction.hpp"
+#include "deformation_enrichment/enrichment/material_similarity.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/examples/example_set_io.hpp"
 
@@ -84,6 +85,9 @@ int main(int argc, char** argv) {
     options.rimBand = rimBand;
     options.magnitudeAware = !correlationOnly;
     options = enrichment::optionsFor(set, options);
+    // Detail of another tissue fades with its material's difference (the descriptors see geometry only).
+    const double similarity = set.metadata.provenance ? enrichment::materialSimilarity(set.metadata.provenance->scene, scene) : 1.0;
+    options.stampGain *= similarity;
     enrichment::ContactEnricher enricher(acq.fineSurface(), options);
     enrichment::ExampleBlenderOptions blenderOptions;
     blenderOptions.fitWidths = !noFit && !(sigmaRho > 0.0 && sigmaU > 0.0);
@@ -120,7 +124,7 @@ int main(int argc, char** argv) {
                             {"enrich_seconds", s.timings.totalSeconds}, {"descriptor_seconds", s.timings.descriptorSeconds},
                             {"blend_seconds", s.timings.blendSeconds}, {"map_seconds", s.timings.mapSeconds}});
     }
-    json out = {{"scene", scene.name}, {"source_scene", source}, {"transfer", transfer},
+    json out = {{"scene", scene.name}, {"source_scene", source}, {"transfer", transfer}, {"material_similarity", similarity},
                 {"examples", set.examples.size()}, {"example_set", setPath}, {"contacts", contacts.size()},
                 {"held_out", contactsPath.empty() ? json{{"random", heldOut}, {"seed", seed}} : json{{"file", contactsPath}}},
                 {"stamp_radius", options.stampRadius},
