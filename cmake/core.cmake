@@ -4,7 +4,7 @@
 #
 #   deformation_enrichment_geometry     mesh, hermite, kinematics
 #   deformation_enrichment_descriptors  descriptors                 -> geometry
-#   deformation_enrichment_runtime      examples, enrichment        -> descriptors
+#   deformation_enrichment_runtime      scene_file, examples, enrichment -> descriptors
 #   deformation_enrichment_simulation   elasticity, scenes, acquisition -> runtime (acquisition describes examples
 #                                       with the run-time code)
 #   deformation_enrichment_shape_space  shape_space                 -> geometry
@@ -16,6 +16,7 @@ find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs)
 find_package(PCL REQUIRED COMPONENTS common io kdtree search)
 find_package(OpenMP)
+find_package(yaml-cpp REQUIRED)
 find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse)
 find_library(CHOLMOD_LIBRARY cholmod)
 
@@ -24,7 +25,7 @@ set(DE_WARNINGS -Wall -Wextra)
 # Module folder -> library of its layer (read by de_link_core_for below).
 set(DE_LAYER_geometry mesh hermite kinematics)
 set(DE_LAYER_descriptors descriptors)
-set(DE_LAYER_runtime examples enrichment)
+set(DE_LAYER_runtime scene_file examples enrichment)
 set(DE_LAYER_simulation elasticity scenes acquisition)
 set(DE_LAYER_shape_space shape_space)
 set(DE_LAYERS geometry descriptors runtime simulation shape_space)
@@ -62,8 +63,23 @@ de_add_layer(geometry Eigen3::Eigen)
 target_include_directories(deformation_enrichment_geometry SYSTEM PRIVATE ${PCL_INCLUDE_DIRS})
 target_compile_definitions(deformation_enrichment_geometry PRIVATE ${PCL_DEFINITIONS})
 target_link_libraries(deformation_enrichment_geometry PRIVATE ${PCL_LIBRARIES})
+# VTK (already pulled in by PCL) reads and writes unstructured grids and makes surfaces from label images;
+# CGAL's header-only ImageIO reads the images, gzipped ones through zlib. All private like PCL.
+find_package(VTK REQUIRED COMPONENTS CommonCore CommonDataModel FiltersCore ImagingGeneral IOLegacy IOXML)
+find_package(ZLIB REQUIRED)
+target_link_libraries(deformation_enrichment_geometry PRIVATE VTK::CommonCore VTK::CommonDataModel VTK::FiltersCore
+  VTK::ImagingGeneral VTK::IOLegacy VTK::IOXML ZLIB::ZLIB)
+target_compile_definitions(deformation_enrichment_geometry PRIVATE CGAL_USE_ZLIB)
 de_add_layer(descriptors deformation_enrichment_geometry)
 de_add_layer(runtime deformation_enrichment_descriptors ${OpenCV_LIBS})
+target_link_libraries(deformation_enrichment_runtime PRIVATE yaml-cpp)
+# Shipped scenes (config/scenes/<name>.yaml): those the build generates (the liver) first, then the installed
+# share folder, then the source tree.
+set(DE_GENERATED_SCENE_DIR ${CMAKE_BINARY_DIR}/scenes)
+target_compile_definitions(deformation_enrichment_runtime PRIVATE
+  DE_GENERATED_SCENE_DIR="${DE_GENERATED_SCENE_DIR}"
+  DE_SOURCE_SCENE_DIR="${PROJECT_SOURCE_DIR}/config/scenes"
+  DE_INSTALL_SCENE_DIR="${CMAKE_INSTALL_PREFIX}/share/${PROJECT_NAME}/config/scenes")
 de_add_layer(simulation deformation_enrichment_runtime)
 de_add_layer(shape_space deformation_enrichment_geometry)
 if(OpenMP_CXX_FOUND)
@@ -176,6 +192,29 @@ if(DE_BUILD_TESTS AND TARGET de_make_examples AND TARGET de_evaluate)
     $<TARGET_FILE_DIR:de_make_examples> ${DE_TEST_SLAB_SET})
   set_tests_properties(slab_example_set PROPERTIES FIXTURES_SETUP slab_set TIMEOUT 600)
   add_test(NAME slab_held_out_accuracy COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/test/accuracy/held_out_ratio.py
-    $<TARGET_FILE_DIR:de_evaluate> ${DE_TEST_SLAB_SET} 0.45)
+    $<TARGET_FILE_DIR:de_evaluate> ${DE_TEST_SLAB_SET} 0.45 --scene slab
+    --contacts ${PROJECT_SOURCE_DIR}/config/scenes/slab_held_out.csv)
   set_tests_properties(slab_held_out_accuracy PROPERTIES FIXTURES_REQUIRED slab_set TIMEOUT 600)
+endif()
+
+# Shards of one plan acquired in parallel (as Slurm array tasks) merge into the single run's set.
+if(DE_BUILD_TESTS AND TARGET de_make_examples AND TARGET de_merge_examples)
+  add_test(NAME shards_in_parallel COMMAND bash ${PROJECT_SOURCE_DIR}/test/acquisition/shards_in_parallel.sh
+    ${PROJECT_SOURCE_DIR} $<TARGET_FILE_DIR:de_make_examples>)
+  set_tests_properties(shards_in_parallel PROPERTIES TIMEOUT 600)
+endif()
+
+# The liver scene (docs/liver.md): CGAL's segmented liver CT meshed by de_mesh_image into the build tree, with
+# its scene file beside the meshes. Deterministic; nothing generated is committed.
+set(DE_LIVER_IMAGE_ARCHIVE /usr/share/doc/libcgal-demo/data.tar.gz)
+if(TARGET de_mesh_image AND EXISTS ${DE_LIVER_IMAGE_ARCHIVE})
+  set(liver_dir ${DE_GENERATED_SCENE_DIR}/liver)
+  add_custom_command(OUTPUT ${liver_dir}/display.obj ${liver_dir}/coarse.node ${liver_dir}/coarse.ele
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${liver_dir}
+    COMMAND tar xzf ${DE_LIVER_IMAGE_ARCHIVE} -C ${liver_dir} --strip-components=2 data/images/liver.inr.gz
+    COMMAND $<TARGET_FILE:de_mesh_image> --image ${liver_dir}/liver.inr.gz --output ${liver_dir} > ${liver_dir}/mesh_image.log
+    COMMAND ${CMAKE_COMMAND} -E remove ${liver_dir}/liver.inr.gz
+    DEPENDS de_mesh_image COMMENT "Meshing CGAL's liver CT for the liver scene")
+  configure_file(${PROJECT_SOURCE_DIR}/config/scenes/liver.yaml.in ${DE_GENERATED_SCENE_DIR}/liver.yaml COPYONLY)
+  add_custom_target(liver_scene ALL DEPENDS ${liver_dir}/display.obj ${liver_dir}/coarse.node ${liver_dir}/coarse.ele)
 endif()

@@ -7,12 +7,14 @@
 
 namespace deformation_enrichment::acquisition {
 
-std::vector<HeldOutCase> simulateHeldOut(const SlabAcquisition& acquisition, const std::vector<PlanEntry>& entries,
+std::vector<HeldOutCase> simulateHeldOut(const SceneAcquisition& acquisition, const std::vector<PlanEntry>& entries,
                                          const std::function<void(std::size_t)>& progress) {
   std::vector<HeldOutCase> cases;
+  for (std::size_t i = 0; i < entries.size(); ++i)  // every entry checked before the first solve
+    cases.push_back({entries[i], acquisition.contactOf(entries[i]), {}});
   for (std::size_t i = 0; i < entries.size(); ++i) {
     if (progress) progress(i);
-    cases.push_back({entries[i], acquisition.simulate(entries[i])});
+    cases[i].result = acquisition.simulate(entries[i]);
   }
   return cases;
 }
@@ -28,7 +30,7 @@ HeldOutScore scoreHeldOut(enrichment::ContactEnricher& enricher, const std::vect
   long count = 0;
   for (const HeldOutCase& c : cases) {
     std::vector<enrichment::EnrichmentResult> runs(static_cast<std::size_t>(repetitions));
-    for (auto& run : runs) enricher.enrich(c.result.coarseOnFine, {SlabAcquisition::contactOf(c.entry)}, run);
+    for (auto& run : runs) enricher.enrich(c.result.coarseOnFine, {c.contact}, run);
     std::nth_element(runs.begin(), runs.begin() + repetitions / 2, runs.end(), [](const auto& a, const auto& b) {
       return a.timings.totalSeconds < b.timings.totalSeconds;
     });
@@ -38,7 +40,7 @@ HeldOutScore scoreHeldOut(enrichment::ContactEnricher& enricher, const std::vect
     ContactScore s;
     double cSq = 0.0, eSq = 0.0;
     for (Eigen::Index v = 0; v < rest.cols(); ++v) {
-      if ((rest.col(v) - c.entry.point).norm() >= R) continue;
+      if ((rest.col(v) - c.contact.point).norm() >= R) continue;
       const double ce = (c.result.coarseOnFine.col(v) - c.result.fine.col(v)).norm();
       const double ee = (enriched.col(v) - c.result.fine.col(v)).norm();
       cSq += ce * ce;

@@ -1,11 +1,28 @@
 #include "deformation_enrichment/enrichment/example_blender.hpp"
 
 #include <string>
+#include <vector>
 
 #include "deformation_enrichment/enrichment/stamp_blending.hpp"
 #include "deformation_enrichment/error.hpp"
 
 namespace deformation_enrichment::enrichment {
+namespace {
+
+// Examples at one contact (one site, several patterns) form a group for cross-validation: a new contact is
+// predicted from other sites, so a site is left out as a whole. One site only: examples leave one by one.
+std::vector<int> siteGroups(const examples::ExampleSet& set) {
+  std::vector<int> group(set.examples.size(), -1);
+  int sites = 0;
+  for (std::size_t i = 0; i < set.examples.size(); ++i) {
+    for (std::size_t j = 0; j < i && group[i] < 0; ++j)
+      if ((set.examples[i].contact - set.examples[j].contact).norm() <= 1e-9) group[i] = group[j];
+    if (group[i] < 0) group[i] = sites++;
+  }
+  return sites >= 2 ? group : std::vector<int>();
+}
+
+}  // namespace
 
 ExampleBlender::ExampleBlender(const examples::ExampleSet& set, const ExampleBlenderOptions& options)
     : lambda_(options.lambda), widths_(options.widths) {
@@ -31,8 +48,9 @@ ExampleBlender::ExampleBlender(const examples::ExampleSet& set, const ExampleBle
         for (Eigen::Index i = 0; i < size(); ++i) magnitudes[i] = mu[static_cast<std::size_t>(i)].values().norm();
       }
       fit_ = fitKernelWidths(dissimilarities_, gram, defaultKernelWidthGrid(dissimilarities_, options.gridCount), lambda_,
-                             magnitudes);
+                             magnitudes, siteGroups(set));
       widths_ = fit_->best;
+      if (options.crossValidatedGain) gain_ = fit_->gain;
     }
   }
   setWidths(widths_);
@@ -46,6 +64,7 @@ void ExampleBlender::setWidths(const KernelWidths& widths) {
 void ExampleBlender::blend(const hermite::MomentList& rho, const hermite::MomentList& mu, BlendResult& out) const {
   correlate(*table_, rho, mu, widths_, out.correlation);  // eq. (15)
   rbf_->interpolate(out.correlation.weights, out.rbf);
+  if (gain_ != 1.0) out.rbf.weights *= gain_;
   out.stamp = blendStamps(stamps_, out.rbf.weights);  // eq. (16)
 }
 

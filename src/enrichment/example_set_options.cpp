@@ -1,6 +1,8 @@
 #include "deformation_enrichment/enrichment/example_set_options.hpp"
 
 #include <cmath>
+#include <map>
+#include <string>
 
 #include "deformation_enrichment/enrichment/descriptor_order.hpp"
 #include "deformation_enrichment/error.hpp"
@@ -8,40 +10,43 @@
 namespace deformation_enrichment::enrichment {
 
 namespace {
-constexpr const char* kWindowScale = "window_scale_m";
-constexpr const char* kWindowCutoff = "window_cutoff_h";
-constexpr const char* kSampleSpacing = "site_sample_spacing_m";
-constexpr const char* kStampRadius = "stamp_radius_m";
-constexpr const char* kAverageQuadrature = "average_quadrature";
 
-// Applies a recorded positive length (or count of h) when the set has it.
-void applyPositive(const std::map<std::string, double>& metadata, const char* key, double& value) {
-  const auto it = metadata.find(key);
-  if (it == metadata.end()) return;
-  if (!(it->second > 0.0) || !std::isfinite(it->second))
-    throw InvalidInputError("example set metadata: " + std::string(key) + " must be finite and positive, got " +
-                            std::to_string(it->second));
-  value = it->second;
+// Sets written before provenance existed name their descriptor options in the metadata map.
+void applyLegacyMetadata(const std::map<std::string, double>& metadata, ContactEnricherOptions& o) {
+  const auto positive = [&](const char* key, double& value) {
+    const auto it = metadata.find(key);
+    if (it == metadata.end()) return;
+    if (!(it->second > 0.0) || !std::isfinite(it->second))
+      throw InvalidInputError("example set metadata: " + std::string(key) + " must be finite and positive, got " +
+                              std::to_string(it->second));
+    value = it->second;
+  };
+  positive("window_scale_m", o.descriptors.window.scale);
+  positive("window_cutoff_h", o.descriptors.window.cutoff);
+  positive("site_sample_spacing_m", o.sampleSpacing);
+  const auto average = metadata.find("average_quadrature");
+  if (average != metadata.end())
+    o.descriptors.window.quadrature = average->second == 1.0 ? descriptors::Quadrature::Average : descriptors::Quadrature::Volume;
 }
+
 }  // namespace
 
-std::map<std::string, double> descriptorMetadata(const ContactEnricherOptions& options) {
-  return {{kWindowScale, options.descriptors.window.scale},
-          {kWindowCutoff, options.descriptors.window.cutoff},
-          {kSampleSpacing, options.sampleSpacing},
-          {kStampRadius, options.stampRadius},
-          {kAverageQuadrature, options.descriptors.window.quadrature == descriptors::Quadrature::Average ? 1.0 : 0.0}};
+ContactEnricherOptions optionsFor(const scene_file::SceneDescription& scene, ContactEnricherOptions defaults) {
+  defaults.descriptors.window.scale = scene.descriptors.windowScale;
+  defaults.descriptors.window.cutoff = scene.descriptors.cutoff;
+  defaults.descriptors.window.quadrature =
+      scene.descriptors.averageQuadrature ? descriptors::Quadrature::Average : descriptors::Quadrature::Volume;
+  defaults.sampleSpacing = scene.descriptors.sampleSpacing;
+  defaults.stampRadius = scene.stamp.radius;
+  return defaults;
 }
 
 ContactEnricherOptions optionsFor(const examples::ExampleSet& set, ContactEnricherOptions defaults) {
   if (set.examples.empty()) throw InvalidInputError("example set has no examples");
-  const auto& metadata = set.metadata.material;
-  applyPositive(metadata, kWindowScale, defaults.descriptors.window.scale);
-  applyPositive(metadata, kWindowCutoff, defaults.descriptors.window.cutoff);
-  applyPositive(metadata, kSampleSpacing, defaults.sampleSpacing);
-  const auto average = metadata.find(kAverageQuadrature);
-  if (average != metadata.end())
-    defaults.descriptors.window.quadrature = average->second == 1.0 ? descriptors::Quadrature::Average : descriptors::Quadrature::Volume;
+  if (set.metadata.provenance)
+    defaults = optionsFor(set.metadata.provenance->scene, defaults);
+  else
+    applyLegacyMetadata(set.metadata.material, defaults);
   const examples::Example& first = set.examples.front();
   for (const examples::Example& e : set.examples) {
     if (e.stampRadius != first.stampRadius)

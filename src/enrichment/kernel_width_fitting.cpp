@@ -26,34 +26,54 @@ std::vector<double> geometric(double lo, double hi, int count) {
   return v;
 }
 
-// Sum over held-out k of c_k |Psi^_k - Psi_k|^2 with Psi^_k = sum_{i != k} x_i Psi_i and
-// x = ((K_S)^2 + lambda^2 I)^-1 K_S K_Sk (the RBF weights of rbf_interpolation.hpp from the other examples);
-// G is the Gram matrix of the Psi, c_k = 1 when `scale` is empty, else scale_k.
-double leaveOneOutSquaredError(const Eigen::MatrixXd& K, const Eigen::MatrixXd& G, double lambda, const Eigen::VectorXd& scale) {
+// Sums over the held-out examples k of <Psi^_k, Psi_k>, |Psi^_k|^2 and |Psi_k|^2, each weighted by c_k (1
+// when `scale` is empty, else scale_k). Examples leave in groups (`groups`: a group id per example, empty:
+// every example alone): Psi^_k = sum_{i in S} x_i Psi_i over the others S, with
+// x = ((K_S)^2 + lambda^2 I)^-1 K_S K_Sk (the RBF weights of rbf_interpolation.hpp from S); G is the Gram
+// matrix of the Psi.
+struct LeaveOneOutSums {
+  double cross = 0.0, predicted = 0.0, truth = 0.0;
+  double squaredError() const { return std::max(0.0, predicted - 2.0 * cross + truth); }
+  /// The gain g in [0, 1] minimising sum_k |g Psi^_k - Psi_k|^2.
+  double gain() const { return predicted > 0.0 ? std::clamp(cross / predicted, 0.0, 1.0) : 0.0; }
+};
+
+LeaveOneOutSums leaveOneOutSums(const Eigen::MatrixXd& K, const Eigen::MatrixXd& G, double lambda, const Eigen::VectorXd& scale,
+                                const std::vector<int>& groups) {
   const Eigen::Index n = K.rows();
   const Eigen::MatrixXd K2 = K * K;
-  std::vector<Eigen::Index> others(static_cast<std::size_t>(n - 1));
-  Eigen::MatrixXd A(n - 1, n - 1);
-  Eigen::VectorXd kS(n - 1), rhs(n - 1), x(n - 1), gS(n - 1);
-  Eigen::LLT<Eigen::MatrixXd> llt(n - 1);
-  double total = 0.0;
-  for (Eigen::Index k = 0; k < n; ++k) {
-    for (Eigen::Index i = 0, s = 0; i < n; ++i)
-      if (i != k) others[static_cast<std::size_t>(s++)] = i;
-    kS = K(others, k);
-    // (K_S)^2 = (K^2)_SS - K_Sk K_kS: the held-out row's contribution removed from the full square.
-    A = K2(others, others);
-    A.noalias() -= kS * kS.transpose();
+  std::vector<int> group(groups);
+  if (group.empty())
+    for (Eigen::Index i = 0; i < n; ++i) group.push_back(static_cast<int>(i));
+  std::vector<int> ids(group);
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  LeaveOneOutSums sums;
+  std::vector<Eigen::Index> others, held;
+  Eigen::LLT<Eigen::MatrixXd> llt;
+  for (const int id : ids) {
+    others.clear();
+    held.clear();
+    for (Eigen::Index i = 0; i < n; ++i) (group[static_cast<std::size_t>(i)] == id ? held : others).push_back(i);
+    if (others.empty()) throw InvalidInputError("kernel width fitting: leaving a group out leaves no example");
+    // (K_S)^2 = (K^2)_SS - K_SH K_HS: the held-out rows' contribution removed from the full square.
+    const Eigen::MatrixXd kSH = K(others, held);
+    Eigen::MatrixXd A = K2(others, others);
+    A.noalias() -= kSH * kSH.transpose();
     A.diagonal().array() += lambda * lambda;
     llt.compute(A);
     if (llt.info() != Eigen::Success) throw NumericalError("kernel width fitting: regularised system not positive definite");
-    rhs.noalias() = K(others, others) * kS;
-    x = llt.solve(rhs);
-    gS = G(others, k);
-    const double error = x.dot(G(others, others) * x) - 2.0 * x.dot(gS) + G(k, k);
-    total += (scale.size() ? scale[k] : 1.0) * std::max(0.0, error);  // a squared norm; clamp the rounding
+    const Eigen::MatrixXd X = llt.solve(K(others, others) * kSH);  // one column of RBF weights per held-out example
+    for (std::size_t h = 0; h < held.size(); ++h) {
+      const Eigen::Index k = held[h];
+      const Eigen::VectorXd x = X.col(static_cast<Eigen::Index>(h));
+      const double s = scale.size() ? scale[k] : 1.0;
+      sums.predicted += s * x.dot(G(others, others) * x);
+      sums.cross += s * x.dot(G(others, k));
+      sums.truth += s * G(k, k);
+    }
   }
-  return total;
+  return sums;
 }
 
 }  // namespace
@@ -106,15 +126,15 @@ ScaledGram scaledGram(const Eigen::MatrixXd& G, const Eigen::VectorXd& magnitude
 }
 
 double leaveOneOutError(const ExampleDissimilarities& d, const Eigen::MatrixXd& stampGram, const KernelWidths& widths, double lambda,
-                        const Eigen::VectorXd& magnitudes) {
+                        const Eigen::VectorXd& magnitudes, const std::vector<int>& groups) {
   checkInputs(d, stampGram);
   if (!(lambda > 0.0)) throw InvalidInputError("leaveOneOutError: regularisation must be positive");
   const ScaledGram scaled = scaledGram(stampGram, magnitudes);
-  return leaveOneOutSquaredError(kernelMatrix(d, widths), scaled.gram, lambda, scaled.scale) / stampGram.trace();
+  return leaveOneOutSums(kernelMatrix(d, widths), scaled.gram, lambda, scaled.scale, groups).squaredError() / stampGram.trace();
 }
 
 KernelWidthFit fitKernelWidths(const ExampleDissimilarities& d, const Eigen::MatrixXd& stampGram, const KernelWidthGrid& grid, double lambda,
-                               const Eigen::VectorXd& magnitudes) {
+                               const Eigen::VectorXd& magnitudes, const std::vector<int>& groups) {
   checkInputs(d, stampGram);
   const ScaledGram scaled = scaledGram(stampGram, magnitudes);
   if (grid.sigmaRho.empty() || grid.sigmaU.empty()) throw InvalidInputError("fitKernelWidths: empty grid");
@@ -134,7 +154,7 @@ KernelWidthFit fitKernelWidths(const ExampleDissimilarities& d, const Eigen::Mat
   for (int pair = 0; pair < a * b; ++pair) {
     const KernelWidths widths{grid.sigmaRho[static_cast<std::size_t>(pair / b)], grid.sigmaU[static_cast<std::size_t>(pair % b)]};
     try {
-      fit.errors(pair / b, pair % b) = leaveOneOutSquaredError(kernelMatrix(d, widths), scaled.gram, lambda, scaled.scale) / norm;
+      fit.errors(pair / b, pair % b) = leaveOneOutSums(kernelMatrix(d, widths), scaled.gram, lambda, scaled.scale, groups).squaredError() / norm;
     } catch (const Error&) {
 #pragma omp critical
       failed = true;
@@ -144,6 +164,9 @@ KernelWidthFit fitKernelWidths(const ExampleDissimilarities& d, const Eigen::Mat
   Eigen::Index bestA = 0, bestB = 0;
   fit.bestError = fit.errors.minCoeff(&bestA, &bestB);
   fit.best = KernelWidths{grid.sigmaRho[static_cast<std::size_t>(bestA)], grid.sigmaU[static_cast<std::size_t>(bestB)]};
+  const LeaveOneOutSums sums = leaveOneOutSums(kernelMatrix(d, fit.best), scaled.gram, lambda, scaled.scale, groups);
+  fit.gain = sums.gain();
+  fit.gainedError = std::max(0.0, sums.truth - fit.gain * (2.0 * sums.cross - fit.gain * sums.predicted)) / norm;
   return fit;
 }
 

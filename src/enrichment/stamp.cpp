@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "deformation_enrichment/error.hpp"
 
@@ -108,6 +109,44 @@ void lookUpStamp(const cv::Mat& stamp, double radius, const Eigen::Matrix2Xd& co
   // cell and limits sizes to SHRT_MAX, which would break float-precision reproduction of smooth fields.
   out.resize(3, coordinates.cols());
   for (Eigen::Index i = 0; i < coordinates.cols(); ++i) out.col(i) = sampleStamp(stamp, radius, coordinates(0, i), coordinates(1, i));
+}
+
+cv::Mat rasteriseFacingPatch(const mesh::TriangleMesh& surface, const Eigen::Matrix3Xd& displacement, const Eigen::Vector3d& p,
+                             const Eigen::Matrix3d& toFrame, const Eigen::Matrix3d& B, double radius, int resolution,
+                             double edge) {
+  if (displacement.cols() != surface.vertices.cols())
+    throw InvalidInputError("rasteriseFacingPatch: one displacement per surface vertex expected");
+  std::vector<int> toPatch(static_cast<std::size_t>(surface.vertices.cols()), -1);
+  std::vector<int> patchVertices;
+  std::vector<Eigen::Vector3i> patchTriangles;
+  const double reach = std::sqrt(2.0) * radius + 2.0 * edge;
+  for (Eigen::Index f = 0; f < surface.triangles.cols(); ++f) {
+    const Eigen::Vector3i t = surface.triangles.col(f);
+    const Eigen::Vector3d a = surface.vertices.col(t(0)), b = surface.vertices.col(t(1)), c = surface.vertices.col(t(2));
+    if ((b - a).cross(c - a).dot(B.col(2)) <= 0.0) continue;
+    if ((a - p).norm() > reach || (b - p).norm() > reach || (c - p).norm() > reach) continue;
+    Eigen::Vector3i local;
+    for (int k = 0; k < 3; ++k) {
+      int& id = toPatch[static_cast<std::size_t>(t(k))];
+      if (id < 0) {
+        id = static_cast<int>(patchVertices.size());
+        patchVertices.push_back(t(k));
+      }
+      local(k) = id;
+    }
+    patchTriangles.push_back(local);
+  }
+  if (patchTriangles.empty()) throw InvalidInputError("rasteriseFacingPatch: no surface facing the contact's normal near it");
+  mesh::TriangleMesh patch;
+  patch.vertices.resize(3, static_cast<Eigen::Index>(patchVertices.size()));
+  patch.triangles.resize(3, static_cast<Eigen::Index>(patchTriangles.size()));
+  Eigen::Matrix3Xd frameDisplacement(3, patch.vertices.cols());
+  for (std::size_t i = 0; i < patchVertices.size(); ++i) {
+    patch.vertices.col(static_cast<Eigen::Index>(i)) = surface.vertices.col(patchVertices[i]);
+    frameDisplacement.col(static_cast<Eigen::Index>(i)) = toFrame * displacement.col(patchVertices[i]);
+  }
+  for (std::size_t f = 0; f < patchTriangles.size(); ++f) patch.triangles.col(static_cast<Eigen::Index>(f)) = patchTriangles[f];
+  return rasteriseStamp(patch, frameDisplacement, p, B, radius, resolution);
 }
 
 }  // namespace deformation_enrichment::enrichment

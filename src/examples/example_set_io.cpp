@@ -174,7 +174,8 @@ void saveExampleSet(const ExampleSet& set, const std::string& directory) {
                         {"stamp_offset_bytes", offset},
                         {"pattern", {{"indent_depth", e.pattern.indentDepth},
                                      {"drag", {e.pattern.drag.x(), e.pattern.drag.y(), e.pattern.drag.z()}}}},
-                        {"scene_id", e.sceneId}});
+                        {"scene_id", e.sceneId},
+                        {"plan_line", e.planLine}});
   }
   json material = json::object();
   for (const auto& [name, value] : set.metadata.material) {
@@ -189,6 +190,9 @@ void saveExampleSet(const ExampleSet& set, const std::string& directory) {
       {"scene", set.metadata.scene},
       {"material", material},
       {"description", set.metadata.description},
+      {"provenance", set.metadata.provenance ? json{{"scene", scene_file::sceneYaml(set.metadata.provenance->scene)},
+                                                     {"file_hashes", set.metadata.provenance->fileHashes}}
+                                             : json(nullptr)},
       {"stamp_blob", {{"file", kStampBlobFile},
                       {"dtype", "float32_le"},
                       {"layout", "rows x cols x 3, row-major, examples in manifest order"},
@@ -224,6 +228,19 @@ void readHeader(const ManifestReader& r, const json& manifest, ExampleSetMetadat
   const json& material = r.field(manifest, "material", "manifest");
   if (!material.is_object()) r.fail("field manifest.material is not an object");
   for (const auto& item : material.items()) metadata.material[item.key()] = r.number(material, item.key(), "manifest.material");
+  // Sets written before provenance existed have none.
+  const auto provenance = manifest.find("provenance");
+  if (provenance == manifest.end() || provenance->is_null()) return;
+  Provenance p;
+  try {
+    p.scene = scene_file::parseSceneText(r.string(*provenance, "scene", "manifest.provenance"), "manifest.provenance.scene");
+  } catch (const Error& e) {
+    r.fail(e.what());
+  }
+  const json& hashes = r.field(*provenance, "file_hashes", "manifest.provenance");
+  if (!hashes.is_object()) r.fail("field manifest.provenance.file_hashes is not an object");
+  for (const auto& item : hashes.items()) p.fileHashes[item.key()] = r.string(hashes, item.key(), "manifest.provenance.file_hashes");
+  metadata.provenance = std::move(p);
 }
 
 // The blob's description in the manifest against the blob itself: size first, then checksum.
@@ -288,6 +305,11 @@ Example readExample(const ManifestReader& r, const json& e, std::size_t i, const
   const std::vector<double> drag = r.numbers(r.field(pattern, "drag", p + ".pattern"), p + ".pattern.drag", 3);
   ex.pattern.drag = Eigen::Vector3d(drag[0], drag[1], drag[2]);
   ex.sceneId = r.string(e, "scene_id", p);
+  // Sets written before shards existed have no plan line.
+  if (e.is_object() && e.contains("plan_line")) {
+    ex.planLine = r.integer(e, "plan_line", p);
+    if (ex.planLine < -1) r.fail("field " + p + ".plan_line is below -1");
+  }
 
   if (!cv::checkRange(ex.stamp, true)) throw IoError(blobPath + ": example " + std::to_string(i) + " stamp contains NaN or Inf");
   const std::string problem = exampleProblem(ex);

@@ -2,7 +2,9 @@
 
 #include <Eigen/Dense>
 #include <nanoflann.hpp>
+#include <iomanip>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -46,6 +48,65 @@ Eigen::Vector4d barycentricCoordinates(const TetMesh& mesh, Eigen::Index t, cons
   return Eigen::Vector4d(1.0 - w.sum(), w[0], w[1], w[2]);
 }
 
+namespace {
+
+/// The tet nearest to p among the candidates and its barycentric coordinates (distance 0 when inside).
+struct NearestTet {
+  Eigen::Index tet = -1;
+  Eigen::Vector4d weights = Eigen::Vector4d::Zero();
+  double distance = std::numeric_limits<double>::infinity();
+};
+
+template <class Candidates>
+NearestTet nearestOf(const TetMesh& mesh, const Eigen::Vector3d& p, const Candidates& candidates) {
+  NearestTet best;
+  for (const Eigen::Index t : candidates) {
+    const Eigen::Vector4d w = barycentricCoordinates(mesh, t, p);
+    const double d = distanceToTet(mesh, t, w, p);
+    if (d < best.distance) best = {t, w, d};
+    if (best.distance == 0.0) break;
+  }
+  return best;
+}
+
+/// A distance for messages: three significant digits ("0.00213 m").
+std::string metres(double value) {
+  std::ostringstream text;
+  text << std::setprecision(3) << value << " m";
+  return text.str();
+}
+
+/// The refusal: how many points are too far, and the farthest one's exact distance (brute force over
+/// all tets, for that one point only: the search gives an upper bound beyond maxOutside).
+[[noreturn]] void refuseFarPoints(const TetMesh& coarse, const Eigen::Matrix3Xd& points, Eigen::Index tooFar,
+                                  Eigen::Index farthest, double maxOutside) {
+  std::vector<Eigen::Index> all(static_cast<size_t>(coarse.numTets()));
+  for (Eigen::Index t = 0; t < coarse.numTets(); ++t) all[static_cast<size_t>(t)] = t;
+  const double distance = nearestOf(coarse, points.col(farthest), all).distance;
+  throw InvalidInputError("embedPoints: " + std::to_string(tooFar) + " of " + std::to_string(points.cols()) +
+                          " points are farther than " + metres(maxOutside) +
+                          " from the coarse mesh; the farthest, point " + std::to_string(farthest) + ", is " +
+                          metres(distance) + " away");
+}
+
+EmbeddingReport reportOf(const Eigen::VectorXd& outside, const TetMesh& coarse) {
+  const double tolerance =
+      1e-9 * (coarse.vertices.rowwise().maxCoeff() - coarse.vertices.rowwise().minCoeff()).norm();
+  EmbeddingReport report;
+  double sum = 0.0;
+  for (Eigen::Index i = 0; i < outside.size(); ++i) {
+    report.maxDistance = std::max(report.maxDistance, outside[i]);
+    if (outside[i] > tolerance) {
+      ++report.outside;
+      sum += outside[i];
+    }
+  }
+  if (report.outside > 0) report.meanDistance = sum / static_cast<double>(report.outside);
+  return report;
+}
+
+}  // namespace
+
 BarycentricEmbedding embedPoints(const TetMesh& coarse, const Eigen::Matrix3Xd& points, double maxOutside) {
   validate(coarse);
   if (!points.allFinite()) throw InvalidInputError("embedPoints: points contain NaN or Inf");
@@ -68,11 +129,13 @@ BarycentricEmbedding embedPoints(const TetMesh& coarse, const Eigen::Matrix3Xd& 
   embedding.weights.resize(4, points.cols());
   embedding.outside.resize(points.cols());
   std::vector<std::pair<unsigned int, double>> hits;
+  std::vector<Eigen::Index> candidates;
   const nanoflann::SearchParams params(32, 0.0, false);
+  Eigen::Index tooFar = 0, farthest = -1;
   for (Eigen::Index i = 0; i < points.cols(); ++i) {
     const Eigen::Vector3d p = points.col(i);
-    // Candidates: every tet whose centroid is within reach of p (plus a margin for points just outside);
-    // when there are none (p lies outside), fall back to the nearest centroids.
+    // Candidates: every tet whose centroid is within reach of p (so every tet within maxOutside of p);
+    // when there are none (p lies farther out), the nearest centroids, for the message.
     const double radius = searchRadius + maxOutside;
     tree.radiusSearch(p.data(), radius * radius, hits, params);
     if (hits.empty()) {
@@ -81,29 +144,29 @@ BarycentricEmbedding embedPoints(const TetMesh& coarse, const Eigen::Matrix3Xd& 
       const std::size_t found = tree.knnSearch(p.data(), index.size(), index.data(), distance.data());
       for (std::size_t k = 0; k < found; ++k) hits.emplace_back(index[k], distance[k]);
     }
-    // Inside some tet: take it. Otherwise take the nearest tet; its barycentric coordinates (slightly
+    candidates.clear();
+    for (const auto& hit : hits) candidates.push_back(hit.first);
+    // Inside some tet: take it. Otherwise the nearest tet; its barycentric coordinates (slightly
     // negative) extend that tet's affine interpolant, which keeps affine fields exact.
-    Eigen::Index best = -1;
-    Eigen::Vector4d bestWeights = Eigen::Vector4d::Zero();
-    double distance = std::numeric_limits<double>::infinity();
-    for (const auto& hit : hits) {
-      const Eigen::Vector4d w = barycentricCoordinates(coarse, hit.first, p);
-      const double d = distanceToTet(coarse, hit.first, w, p);
-      if (d < distance) {
-        distance = d;
-        best = hit.first;
-        bestWeights = w;
-      }
-      if (distance == 0.0) break;
+    const NearestTet nearest = nearestOf(coarse, p, candidates);
+    if (nearest.distance > maxOutside) {
+      if (farthest < 0 || nearest.distance > embedding.outside[farthest]) farthest = i;
+      ++tooFar;
     }
-    if (distance > maxOutside)
-      throw InvalidInputError("embedPoints: point " + std::to_string(i) + " is " + std::to_string(distance) +
-                              " m outside the coarse mesh (limit " + std::to_string(maxOutside) + " m)");
-    embedding.tet[i] = static_cast<int>(best);
-    embedding.weights.col(i) = bestWeights;
-    embedding.outside[i] = distance;
+    embedding.tet[i] = static_cast<int>(nearest.tet);
+    embedding.weights.col(i) = nearest.weights;
+    embedding.outside[i] = nearest.distance;
   }
+  if (tooFar > 0) refuseFarPoints(coarse, points, tooFar, farthest, maxOutside);
+  embedding.report = reportOf(embedding.outside, coarse);
   return embedding;
+}
+
+std::string describe(const EmbeddingReport& report, Eigen::Index points) {
+  std::string text = std::to_string(report.outside) + " of " + std::to_string(points) + " points outside the coarse mesh";
+  if (report.outside > 0)
+    text += ", up to " + metres(report.maxDistance) + " (mean " + metres(report.meanDistance) + ")";
+  return text;
 }
 
 Eigen::Matrix3Xd interpolate(const BarycentricEmbedding& embedding, const TetMesh& coarse, const Eigen::Matrix3Xd& field) {

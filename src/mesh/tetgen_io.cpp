@@ -77,14 +77,6 @@ private:
 
 }  // namespace
 
-TetGenMesh readTetGen(const std::string& base) {
-  std::ifstream node(base + ".node");
-  if (!node) throw IoError("cannot open TetGen file " + base + ".node");
-  std::ifstream ele(base + ".ele");
-  if (!ele) throw IoError("cannot open TetGen file " + base + ".ele");
-  return readTetGen(node, ele, base);
-}
-
 namespace {
 
 // Room for column `index`. Columns grow with the records actually read (doubling, up to the declared
@@ -184,7 +176,20 @@ TetGenMesh readTetGen(std::istream& node, std::istream& ele, const std::string& 
   const int indexBase = readNodes(nodes, result.mesh);
   RecordReader elements(ele, base + ".ele");
   readElements(elements, indexBase, result);
+  result.indexBase = indexBase;
+  std::vector<char> used(static_cast<std::size_t>(result.mesh.numVertices()), 0);
+  for (Eigen::Index t = 0; t < result.mesh.numTets(); ++t)
+    for (int k = 0; k < 4; ++k) used[static_cast<std::size_t>(result.mesh.tets(k, t))] = 1;
+  result.unusedNodes = std::count(used.begin(), used.end(), 0);
   return result;
+}
+
+TetGenMesh readTetGen(const std::string& base) {
+  std::ifstream node(base + ".node");
+  if (!node) throw IoError("cannot open TetGen file " + base + ".node");
+  std::ifstream ele(base + ".ele");
+  if (!ele) throw IoError("cannot open TetGen file " + base + ".ele");
+  return readTetGen(node, ele, base);
 }
 
 void writeTetGen(const std::string& base, const TetMesh& mesh, const Eigen::VectorXi& region) {

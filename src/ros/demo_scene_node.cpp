@@ -1,16 +1,17 @@
-// Built-in demo scene: the slab of the default example set (0.10 x 0.10 x 0.02 m, 1 mm stiff skin, bottom
-// fixed) played by its coarse Stable Neo-Hookean simulation. A scripted tool indents and drags at the
-// held-out contacts of de_evaluate (interactions that are not in the example set), holds, and lifts off.
+// Demo scene: a scene file (default: the slab of the default example set, 0.10 x 0.10 x 0.02 m, 1 mm stiff
+// skin, bottom fixed) played by its coarse Stable Neo-Hookean simulation. A scripted tool indents and drags
+// at held-out contacts (~contacts_file, or random ones on the touchable surface), holds, and lifts off.
 // At start-up the coarse quasi-static path of every tap is solved once (a few seconds); the node then plays
-// it at `rate`, interpolating between solved steps, and publishes the latched rest mesh (the fine display
-// surface the examples were acquired on), the coarse states carried onto it, and the tool's contacts.
+// it at `rate`, interpolating between solved steps, and publishes the latched rest mesh (the display surface
+// the examples were acquired on), the coarse states carried onto it, and the tool's contacts.
 #include <ros/ros.h>
 
 #include <algorithm>
 #include <cmath>
 
 #include "deformation_enrichment/ToolContactArray.h"
-#include "deformation_enrichment/acquisition/example_generation.hpp"
+#include "deformation_enrichment/acquisition/plan_generation.hpp"
+#include "deformation_enrichment/acquisition/scene_acquisition.hpp"
 #include "deformation_enrichment/examples/example_set_io.hpp"
 #include "deformation_enrichment/ros/conversions.hpp"
 #include "deformation_enrichment/scenes/tool_loading.hpp"
@@ -20,7 +21,7 @@ namespace de = deformation_enrichment;
 namespace {
 
 struct Tap {
-  de::acquisition::PlanEntry entry;
+  de::acquisition::ToolPath toolPath;
   std::vector<Eigen::Matrix3Xd> path;  // rest, then after each indent and drag step
   std::vector<Eigen::Vector3d> tool;   // tool displacement at each path state
 };
@@ -45,36 +46,46 @@ int main(int argc, char** argv) {
   const double period = pnh.param("tap_period", 3.0);
   const int indentSteps = pnh.param("indent_steps", 6), dragSteps = pnh.param("drag_steps", 6);
   const std::string setPath = pnh.param<std::string>("example_set", "");
+  const std::string sceneName = pnh.param<std::string>("scene", "slab");
+  const std::string contactsFile = pnh.param<std::string>("contacts_file", "");
+  const int seed = pnh.param("seed", 7);
   if (!(rate > 0.0) || !std::isfinite(rate) || !(period > 0.0) || !std::isfinite(period)) {
-    ROS_FATAL("demo slab: ~rate (%g) and ~tap_period (%g) must be positive and finite", rate, period);
+    ROS_FATAL("demo scene: ~rate (%g) and ~tap_period (%g) must be positive and finite", rate, period);
     return 1;
   }
 
-  de::acquisition::SlabAcquisitionOptions options;
   std::vector<Tap> taps;
-  std::unique_ptr<de::acquisition::SlabAcquisition> slab;
+  std::unique_ptr<de::acquisition::SceneAcquisition> scene;
   try {
-    // The slab the example set was acquired on (resolutions, materials, tool), so the states match its examples.
-    if (!setPath.empty())
-      de::acquisition::applyResolutionMetadata(de::examples::loadExampleSet(setPath), options);
-    slab = std::make_unique<de::acquisition::SlabAcquisition>(options);
-    for (const de::acquisition::PlanEntry& entry : de::acquisition::heldOutSlabContacts()) {
-      Tap tap{entry, {}, {}};
+    de::scene_file::SceneDescription description = de::scene_file::readSceneFile(de::scene_file::findSceneFile(sceneName));
+    // A procedural scene as the example set recorded it (resolutions, materials, tool), so the states match
+    // its examples; scenes with mesh files are taken from their file.
+    if (!setPath.empty()) {
+      const auto provenance = de::examples::loadExampleSet(setPath).metadata.provenance;
+      if (provenance && provenance->scene.procedural && description.procedural && provenance->scene.name == description.name)
+        description = provenance->scene;
+    }
+    scene = std::make_unique<de::acquisition::SceneAcquisition>(description);
+    const auto entries = contactsFile.empty() ? de::acquisition::randomContacts(*scene, 4, static_cast<unsigned>(seed))
+                                              : de::acquisition::readPlan(contactsFile);
+    for (const de::acquisition::PlanEntry& entry : entries) {
+      Tap tap{scene->toolPath(entry), {}, {}};
       std::string message;
-      tap.path = slab->coarsePath(entry, indentSteps, dragSteps, &message);
-      if (!message.empty()) ROS_WARN("demo slab: coarse solver: %s", message.c_str());
+      tap.path = scene->coarsePath(entry, indentSteps, dragSteps, &message);
+      if (!message.empty()) ROS_WARN("demo scene: coarse solver: %s", message.c_str());
+      const de::acquisition::ToolPath& p = tap.toolPath;
       const int drag = static_cast<int>(tap.path.size()) - 1 - indentSteps;
       for (int step = 0; step < static_cast<int>(tap.path.size()); ++step)
-        tap.tool.push_back(de::scenes::toolDisplacement(step, indentSteps, drag, -Eigen::Vector3d::UnitZ(), entry.depth,
-                                                        drag > 0 ? Eigen::Vector3d(entry.drag.normalized()) : Eigen::Vector3d::UnitX(),
-                                                        entry.drag.norm()));
+        tap.tool.push_back(de::scenes::toolDisplacement(step, indentSteps, drag, p.inward, p.depth,
+                                                        drag > 0 ? Eigen::Vector3d(p.drag.normalized()) : Eigen::Vector3d::UnitX(),
+                                                        p.drag.norm()));
       taps.push_back(std::move(tap));
     }
   } catch (const std::exception& e) {
-    ROS_FATAL("demo slab: %s", e.what());
+    ROS_FATAL("demo scene: %s", e.what());
     return 1;
   }
-  const de::mesh::TriangleMesh& rest = slab->fineSurface();
+  const de::mesh::TriangleMesh& rest = scene->fineSurface();
 
   std_msgs::Header header;
   header.frame_id = frame;
@@ -83,8 +94,8 @@ int main(int argc, char** argv) {
   ros::Publisher statePub = nh.advertise<sensor_msgs::PointCloud2>("mesh_state", 2);
   ros::Publisher contactsPub = nh.advertise<de::ToolContactArray>("contacts", 2);
   restPub.publish(de::ros_layer::messageFromTriangleMesh(rest, header));
-  ROS_INFO("demo slab: %ld surface vertices; coarse SNH paths of %zu taps solved; one tap every %.1f s",
-           static_cast<long>(rest.numVertices()), taps.size(), period);
+  ROS_INFO("demo scene %s: %ld surface vertices; coarse SNH paths of %zu taps solved; one tap every %.1f s",
+           sceneName.c_str(), static_cast<long>(rest.numVertices()), taps.size(), period);
 
   const ros::Time start = ros::Time::now();
   ros::Rate loop(rate);
@@ -101,7 +112,7 @@ int main(int argc, char** argv) {
     contacts.header = header;
     if (s > 0.0) {
       // The tool tip: where the tool has moved the surface point it touches.
-      const Eigen::Vector3d tip = tap.entry.point + (1.0 - f) * tap.tool[static_cast<std::size_t>(k)] + f * tap.tool[static_cast<std::size_t>(k + 1)];
+      const Eigen::Vector3d tip = tap.toolPath.contact + (1.0 - f) * tap.tool[static_cast<std::size_t>(k)] + f * tap.tool[static_cast<std::size_t>(k + 1)];
       de::ToolContact contact;
       contact.header = header;
       contact.tool_id = "demo_tool";
@@ -109,7 +120,9 @@ int main(int argc, char** argv) {
       contact.position.x = tip.x();
       contact.position.y = tip.y();
       contact.position.z = tip.z();
-      contact.normal.z = 1.0;
+      contact.normal.x = -tap.toolPath.inward.x();
+      contact.normal.y = -tap.toolPath.inward.y();
+      contact.normal.z = -tap.toolPath.inward.z();
       contacts.contacts.push_back(contact);
     }
     contactsPub.publish(contacts);

@@ -1,6 +1,7 @@
-// de_evaluate: held-out accuracy of the enrichment on the slab. It runs the coarse and the fine
-// simulation (ground truth) of each held-out contact once, enriches the coarse state with the example set
-// and prints one JSON object: RMS errors against the fine solution over the fine surface vertices within
+// de_evaluate: held-out accuracy of the enrichment on any scene, with an example set of the same scene or of
+// another one (transfer across objects, [Seiler14 §1]). It runs the coarse and the fine simulation (ground
+// truth) of each held-out contact once (random, seeded, unless given), enriches the coarse state with the
+// example set and prints one JSON object: RMS errors against the fine solution over the fine surface vertices within
 // the stamp radius, per-contact details, maxima and compute time per frame. With --curves it also scores
 // run-time variants on the same solves: error vs number of examples ([Seiler14 Fig. 7]) and run time vs
 // error over stamp resolution and Hermite orders (plot them with scripts/plot_evaluation).
@@ -11,7 +12,10 @@
 #include <nlohmann/json.hpp>
 
 #include "deformation_enrichment/acquisition/held_out_evaluation.hpp"
+#include "deformation_enrichment/acquisition/plan_generation.hpp"
+#include "deformation_enrichment/enrichment/example_set_options.hpp"
 #include "deformation_enrichment/enrichment/example_set_reduction.hpp"
+#include "deformation_enrichment/enrichment/material_similarity.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/examples/example_set_io.hpp"
 
@@ -30,23 +34,29 @@ json summary(const acquisition::HeldOutScore& s) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Held-out error of coarse vs enriched surfaces against the fine simulation"};
+  CLI::App app{"Held-out error of coarse vs enriched surfaces against the fine simulation, on any scene"};
   std::string sceneName = "slab", setPath, contactsPath;
   bool asJson = false, noFit = false, correlationOnly = false, curves = false;
-  const enrichment::ContactEnricherOptions defaults = acquisition::SlabAcquisitionOptions::defaultEnricherOptions();
+  const enrichment::ContactEnricherOptions defaults;
   double gain = 1.0, rimBand = defaults.rimBand, sigmaRho = 0.0, sigmaU = 0.0;
-  int repetitions = 5;
+  int repetitions = 5, heldOut = 8;
+  unsigned seed = 1;
   double lambda = enrichment::RbfInterpolator::kDefaultRegularisation;
   app.add_option("--lambda", lambda, "RBF regularisation lambda of (K^2 + lambda^2 I)^-1 K")->check(CLI::PositiveNumber);
-  app.add_option("--scene", sceneName, "scene (slab)")->check(CLI::IsMember({"slab"}));
-  app.add_option("--examples", setPath, "example set directory, or 'default' (cached; acquired on first use)")->required();
-  app.add_option("--contacts", contactsPath, "CSV x,y,z,depth,dx,dy,dz per held-out interaction (default: built-in)");
+  app.add_option("--scene", sceneName, "scene to evaluate on: shipped name or scene file (.yaml)");
+  app.add_option("--examples", setPath, "example set directory (any scene's: transfer), or 'default' (the scene's "
+                                        "default set, acquired on first use)")->required();
+  app.add_option("--contacts", contactsPath, "CSV x,y,z,depth,dx,dy,dz per held-out interaction (default: random)");
+  app.add_option("--held-out", heldOut, "random held-out interactions without --contacts")->check(CLI::PositiveNumber);
+  app.add_option("--seed", seed, "seed of the random held-out interactions");
   app.add_option("--gain", gain, "stamp gain");
   app.add_option("--rim-band", rimBand, "StampMapper rim band in [0, 1)");
   app.add_flag("--correlation-only", correlationOnly, "the paper's pure correlation (no |mu| / |mu[i]| stamp scaling)");
   app.add_option("--sigma-rho", sigmaRho, "fixed kernel width sigma_rho (with --sigma-u: no leave-one-out fit)");
   app.add_option("--sigma-u", sigmaU, "fixed kernel width sigma_u");
   app.add_flag("--no-fit", noFit, "keep default kernel widths instead of the leave-one-out fit");
+  bool noGain = false;
+  app.add_flag("--no-cv-gain", noGain, "do not scale w~ by the cross-validated gain of the fit");
   app.add_flag("--curves", curves, "also score example count, stamp resolution and Hermite order variants");
   app.add_option("--repetitions", repetitions, "enrichments per contact for the median compute time")->check(CLI::PositiveNumber);
   app.add_flag("--json", asJson, "print JSON (always on; kept for the documented command line)");
@@ -54,24 +64,35 @@ int main(int argc, char** argv) {
   try {
     if (!(sigmaRho >= 0.0) || !(sigmaU >= 0.0) || !std::isfinite(sigmaRho) || !std::isfinite(sigmaU))
       throw InvalidInputError("--sigma-rho and --sigma-u must be finite and >= 0 (0: fitted)");
-    const auto contacts = contactsPath.empty() ? acquisition::heldOutSlabContacts() : acquisition::readPlan(contactsPath);
+    const scene_file::SceneDescription scene = scene_file::readSceneFile(scene_file::findSceneFile(sceneName));
+    std::cerr << "scene " << scene.name << ": building the coarse and fine models...\n";
+    acquisition::SceneAcquisition acq(scene);
     if (setPath == "default") {
-      setPath = acquisition::defaultExampleSetDirectory(sceneName);
+      setPath = acquisition::defaultExampleSetDirectory(scene.name);
       if (!std::filesystem::exists(std::filesystem::path(setPath) / examples::kManifestFile)) {
-        std::cerr << "acquiring the default " << sceneName << " example set into " << setPath << " (once)\n";
-        acquisition::SlabAcquisition(acquisition::SlabAcquisitionOptions()).acquireSet(acquisition::defaultSlabPlan(), setPath, &std::cerr);
+        std::cerr << "acquiring the default " << scene.name << " example set into " << setPath << " (once)\n";
+        const auto plan = scene.plan == "auto" ? acquisition::autoPlan(acq, 12) : acquisition::readPlan(scene.plan);
+        acq.acquireSet(plan, setPath, &std::cerr);
       }
     }
     const examples::ExampleSet set = examples::loadExampleSet(setPath);
-    acquisition::SlabAcquisitionOptions options;
-    acquisition::applyResolutionMetadata(set, options);  // the slabs and h the set was made with
-    options.enricher.stampGain = gain;
-    options.enricher.rimBand = rimBand;
-    options.enricher.magnitudeAware = !correlationOnly;
-    acquisition::SlabAcquisition acq(options);
+    const std::string source = set.metadata.provenance ? set.metadata.provenance->scene.name : set.metadata.scene;
+    const bool transfer = source != scene.name;
+    const auto contacts = contactsPath.empty() ? acquisition::randomContacts(acq, heldOut, seed) : acquisition::readPlan(contactsPath);
+    // The evaluation scene's surface, described as the set's examples were.
+    enrichment::ContactEnricherOptions options = defaults;
+    options.stampGain = gain;
+    options.rimBand = rimBand;
+    options.magnitudeAware = !correlationOnly;
+    options = enrichment::optionsFor(set, options);
+    // Detail of another tissue fades with its material's difference (the descriptors see geometry only).
+    const double similarity = set.metadata.provenance ? enrichment::materialSimilarity(set.metadata.provenance->scene, scene) : 1.0;
+    options.stampGain *= similarity;
+    enrichment::ContactEnricher enricher(acq.fineSurface(), options);
     enrichment::ExampleBlenderOptions blenderOptions;
     blenderOptions.fitWidths = !noFit && !(sigmaRho > 0.0 && sigmaU > 0.0);
     blenderOptions.lambda = lambda;
+    blenderOptions.crossValidatedGain = !noGain;
     if (sigmaRho > 0.0 && sigmaU > 0.0) blenderOptions.widths = enrichment::KernelWidths{sigmaRho, sigmaU};
     // Leave-one-out needs at least two examples to leave one out.
     const auto blenderFor = [&](const examples::ExampleSet& s) {
@@ -79,7 +100,6 @@ int main(int argc, char** argv) {
       o.fitWidths = o.fitWidths && s.examples.size() >= 2;
       return o;
     };
-    enrichment::ContactEnricher& enricher = acq.enricher();
     enricher.setExamples(set, blenderFor(set));
     const enrichment::KernelWidths widths = enricher.blender()->widths();
 
@@ -94,7 +114,8 @@ int main(int argc, char** argv) {
       const acquisition::InteractionResult& r = cases[i].result;
       const acquisition::ContactScore& s = score.contacts[i];
       const Eigen::VectorXd& w = s.outcome.weights;
-      perContact.push_back({{"point", vec(c.point)}, {"depth", c.depth}, {"drag", vec(c.drag)}, {"vertices", s.vertices},
+      perContact.push_back({{"point", vec(c.point)}, {"contact", vec(cases[i].contact.point)}, {"depth", c.depth},
+                            {"drag", vec(c.drag)}, {"vertices", s.vertices},
                             {"coarse_rms", s.coarseRms}, {"enriched_rms", s.enrichedRms}, {"coarse_max", s.coarseMax},
                             {"enriched_max", s.enrichedMax}, {"confidence", s.outcome.confidence},
                             {"weights", std::vector<double>(w.data(), w.data() + w.size())},
@@ -103,11 +124,17 @@ int main(int argc, char** argv) {
                             {"enrich_seconds", s.timings.totalSeconds}, {"descriptor_seconds", s.timings.descriptorSeconds},
                             {"blend_seconds", s.timings.blendSeconds}, {"map_seconds", s.timings.mapSeconds}});
     }
-    json out = {{"scene", sceneName}, {"examples", set.examples.size()}, {"example_set", setPath},
-                {"contacts", contacts.size()}, {"stamp_radius", options.enricher.stampRadius},
+    json out = {{"scene", scene.name}, {"source_scene", source}, {"transfer", transfer}, {"material_similarity", similarity},
+                {"examples", set.examples.size()}, {"example_set", setPath}, {"contacts", contacts.size()},
+                {"held_out", contactsPath.empty() ? json{{"random", heldOut}, {"seed", seed}} : json{{"file", contactsPath}}},
+                {"stamp_radius", options.stampRadius},
                 {"magnitude_aware", !correlationOnly}, {"rim_band", rimBand}, {"gain", gain}, {"lambda", lambda},
                 {"surface_vertices", acq.fineSurface().vertices.cols()},
                 {"sigma_rho", widths.sigmaRho}, {"sigma_u", widths.sigmaU},
+                {"leave_one_out", enricher.blender()->fit() ? json{{"error", enricher.blender()->fit()->bestError},
+                                                                   {"gain", enricher.blender()->gain()},
+                                                                   {"error_with_gain", enricher.blender()->fit()->gainedError}}
+                                                            : json(nullptr)},
                 {"coarse_rms", score.coarseRms}, {"enriched_rms", score.enrichedRms}, {"ratio", score.ratio()},
                 {"coarse_max", score.coarseMax}, {"enriched_max", score.enrichedMax},
                 {"compute_seconds_per_frame", score.secondsPerFrame}, {"per_contact", perContact}};
@@ -136,7 +163,7 @@ int main(int argc, char** argv) {
       const int siteOrders = set.examples.front().rho.lastOrder(), deformationOrders = set.examples.front().mu.lastOrder();
       for (int m = 1; m <= deformationOrders; ++m)
         for (int n = 1; n <= siteOrders; ++n) {  // rho_1 defines the stamping frame
-          enrichment::ContactEnricherOptions orderOptions = options.enricher;
+          enrichment::ContactEnricherOptions orderOptions = options;
           orderOptions.descriptors.siteOrder = n;
           orderOptions.descriptors.deformationOrder = m;
           enrichment::ContactEnricher variant(acq.fineSurface(), orderOptions);

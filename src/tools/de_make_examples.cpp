@@ -1,58 +1,85 @@
-// de_make_examples: acquires an example set on the slab scene ([Seiler14 §3]). For every plan line it runs
-// the coarse and the fine simulation, takes d = fine - coarse on the fine surface and stores descriptors
-// and stamp. The set is rewritten after every example, so an interrupted run resumes where it stopped
-// (examples already in SET with the same contact and pattern are kept, not recomputed).
+// de_make_examples: acquires an example set on a scene ([Seiler14 §3]; scene files: docs/scenes.md). For
+// every plan line it runs the coarse and the fine simulation, takes d = fine - coarse on the display surface
+// and stores descriptors and stamp. The set is rewritten after every example, so an interrupted run resumes
+// where it stopped; --shard I/N acquires every N-th plan line starting at line I, for parallel jobs whose
+// sets de_merge_examples joins. Bad input (scene, plan, flags) is refused before anything is written.
 #include <CLI/CLI.hpp>
+#include <chrono>
 #include <iostream>
+#include <regex>
 
-#include "deformation_enrichment/acquisition/example_generation.hpp"
+#include "deformation_enrichment/acquisition/plan_generation.hpp"
+#include "deformation_enrichment/acquisition/scene_acquisition.hpp"
 #include "deformation_enrichment/error.hpp"
 
 using namespace deformation_enrichment;
 
+namespace {
+
+acquisition::Shard parseShard(const std::string& text) {
+  std::smatch m;
+  if (!std::regex_match(text, m, std::regex("([0-9]{1,6})/([0-9]{1,6})")))
+    throw InvalidInputError("--shard must be I/N, e.g. 2/8, got '" + text + "'");
+  acquisition::Shard shard{std::stoi(m[1]), std::stoi(m[2])};
+  if (shard.count < 1 || shard.index < 1 || shard.index > shard.count)
+    throw InvalidInputError("--shard I/N needs 1 <= I <= N, got " + text);
+  return shard;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  CLI::App app{"Acquire an example set (coarse vs fine simulations) for a scene"};
-  std::string sceneName = "slab", output, planPath;
-  int resolution = acquisition::SlabAcquisitionOptions().stampResolution;
-  double toolRadius = acquisition::SlabAcquisitionOptions().toolRadius;
-  std::vector<int> coarseCells{10, 10, 2}, fineCells{24, 24, 4};
-  app.add_option("--scene", sceneName, "scene (slab)")->check(CLI::IsMember({"slab"}));
+  CLI::App app{"Acquire an example set (coarse vs fine Stable Neo-Hookean simulations) on a scene"};
+  std::string sceneName = "slab", output, planPath, shardText = "1/1";
+  int examples = 12;
+  app.add_option("--scene", sceneName, "shipped scene name or scene file (.yaml)");
   app.add_option("--output", output, "example set directory ('default': the cache of the scene's default set)")->required();
-  app.add_option("--plan", planPath, "CSV x,y,z,depth,dx,dy,dz per interaction (default: built-in slab plan)");
-  app.add_option("--stamp-resolution", resolution, "stamp nodes per side");
-  app.add_option("--coarse-cells", coarseCells, "coarse slab cells x y bulk-z (+1 skin layer)")->expected(3);
-  app.add_option("--fine-cells", fineCells, "fine slab cells x y bulk-z (+2 skin layers)")->expected(3);
-  app.add_option("--tool-radius", toolRadius, "tool footprint radius (m)");
-  double stampRadius = acquisition::SlabAcquisitionOptions().enricher.stampRadius;
+  app.add_option("--plan", planPath, "CSV x,y,z,depth,dx,dy,dz per interaction (default: the scene's plan)");
+  app.add_option("--examples", examples, "interactions of an automatic plan (scene plan: auto)")->check(CLI::PositiveNumber);
+  app.add_option("--shard", shardText, "acquire every N-th plan line starting at line I (I/N, 1-based)");
+  // Overrides of the scene file, for experiments; recorded in the set's provenance like the file's values.
+  std::optional<int> resolution;
+  std::optional<double> stampRadius, toolRadius, toolStiffness, coarseSkinYoung;
+  std::optional<std::string> quadrature, toolModel;
+  app.add_option("--stamp-resolution", resolution, "stamp nodes per side")->check(CLI::Range(2, 4096));
   app.add_option("--stamp-radius", stampRadius, "stamp radius R (m)")->check(CLI::PositiveNumber);
-  double coarseSkinYoung = acquisition::SlabAcquisitionOptions().coarseSkinYoung;
-  app.add_option("--coarse-skin-young", coarseSkinYoung, "skin Young's modulus of the coarse model (Pa; 0 = the fine one's)");
-  double toolStiffness = acquisition::SlabAcquisitionOptions().toolStiffness;
+  app.add_option("--tool-radius", toolRadius, "tool footprint radius (m)")->check(CLI::PositiveNumber);
   app.add_option("--tool-stiffness", toolStiffness, "penalty tool stiffness per area (Pa/m)")->check(CLI::PositiveNumber);
-  std::string quadrature = "volume";
-  app.add_option("--quadrature", quadrature, "descriptor quadrature: volume (lumped weights) or average (paper eq. 8)")
+  app.add_option("--coarse-skin-young", coarseSkinYoung, "skin Young's modulus of the coarse model (Pa)")->check(CLI::PositiveNumber);
+  app.add_option("--quadrature", quadrature, "descriptor quadrature: volume or average ([Seiler14 eq. 8])")
       ->check(CLI::IsMember({"volume", "average"}));
-  std::string toolModel = "penalty";
   app.add_option("--tool-model", toolModel, "penalty (smooth footprint springs) or dirichlet (vertices under the tip)")
       ->check(CLI::IsMember({"penalty", "dirichlet"}));
   CLI11_PARSE(app, argc, argv);
   try {
-    const std::vector<acquisition::PlanEntry> plan = planPath.empty() ? acquisition::defaultSlabPlan() : acquisition::readPlan(planPath);
-    acquisition::SlabAcquisitionOptions options;
-    options.stampResolution = resolution;
-    options.toolRadius = toolRadius;
-    options.coarseSkinYoung = coarseSkinYoung;
-    options.toolStiffness = toolStiffness;
-    options.enricher.descriptors.window.quadrature = descriptors::parseQuadrature(quadrature);
-    options.enricher.stampRadius = stampRadius;
-    options.toolModel = toolModel == "penalty" ? acquisition::ToolModel::Penalty : acquisition::ToolModel::Dirichlet;
-    options.coarse.cells = Eigen::Vector3i(coarseCells[0], coarseCells[1], coarseCells[2]);
-    options.fine.cells = Eigen::Vector3i(fineCells[0], fineCells[1], fineCells[2]);
-    std::cerr << "building coarse and fine slabs, embedding and site sampling...\n";
-    acquisition::SlabAcquisition acq(options);
-    if (output == "default") output = acquisition::defaultExampleSetDirectory(sceneName);
-    const examples::ExampleSet set = acq.acquireSet(plan, output, &std::cerr);
-    std::cerr << "wrote " << set.examples.size() << " examples to " << output << "\n";
+    const auto start = std::chrono::steady_clock::now();
+    const acquisition::Shard shard = parseShard(shardText);
+    scene_file::SceneDescription scene = scene_file::readSceneFile(scene_file::findSceneFile(sceneName));
+    if (resolution) scene.stamp.resolution = *resolution;
+    if (stampRadius) scene.stamp.radius = *stampRadius;
+    if (toolRadius) scene.tool.radius = *toolRadius;
+    if (toolStiffness) scene.tool.stiffness = *toolStiffness;
+    if (coarseSkinYoung) {
+      if (!scene.skin) throw InvalidInputError("--coarse-skin-young: scene '" + scene.name + "' has no skin");
+      scene.coarseSkinYoung = *coarseSkinYoung;
+    }
+    if (quadrature) scene.descriptors.averageQuadrature = *quadrature == "average";
+    if (toolModel) scene.tool.model = *toolModel == "penalty" ? scene_file::ToolModel::Penalty : scene_file::ToolModel::Dirichlet;
+    if (!planPath.empty()) scene.plan = planPath;
+    std::cerr << "scene " << scene.name << " (" << scene.path << "): building the coarse and fine models...\n";
+    acquisition::SceneAcquisition acq(scene);
+    std::cerr << acq.models().report << "\n";
+    const auto [outside, farthest] = acq.outsideVertices();
+    if (outside > 0)
+      std::cerr << outside << " display vertices lie outside the coarse volume (up to " << farthest * 1e3
+                << " mm): their coarse motion is extrapolated from the nearest tet\n";
+    const std::vector<acquisition::PlanEntry> plan =
+        scene.plan == "auto" ? acquisition::autoPlan(acq, examples) : acquisition::readPlan(scene.plan);
+    if (output == "default") output = acquisition::defaultExampleSetDirectory(scene.name);
+    const examples::ExampleSet set = acq.acquireSet(plan, output, &std::cerr, shard);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::cerr << "wrote " << set.examples.size() << " examples (shard " << shard.index << "/" << shard.count << " of a "
+              << plan.size() << "-line plan) to " << output << " in " << seconds << " s\n";
   } catch (const std::exception& e) {
     std::cerr << "de_make_examples: " << e.what() << "\n";
     return 1;

@@ -2,7 +2,7 @@
 """Accuracy cannot regress silently: scores an example set with de_evaluate (fine Stable Neo-Hookean solves
 of held-out interactions as the truth) and fails when the enriched / coarse RMS ratio exceeds the bound.
 
-Usage: held_out_ratio.py TOOL_DIR SET_DIR MAX_RATIO
+Usage: held_out_ratio.py TOOL_DIR SET_DIR MAX_RATIO [de_evaluate options...]
 The default slab set measured 0.38 when this test was written (docs/design.md §5); the bound leaves a margin
 for round-off differences between machines (BLAS, thread count), not for a worse method.
 """
@@ -13,7 +13,8 @@ import sys
 
 def main():
     tool_dir, set_dir, bound = sys.argv[1], sys.argv[2], float(sys.argv[3])
-    run = subprocess.run([f"{tool_dir}/de_evaluate", "--examples", set_dir, "--json"], capture_output=True, text=True)
+    run = subprocess.run([f"{tool_dir}/de_evaluate", "--examples", set_dir, "--json"] + sys.argv[4:],
+                         capture_output=True, text=True)
     if run.returncode != 0:
         print(run.stderr, file=sys.stderr)
         return 1

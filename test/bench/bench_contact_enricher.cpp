@@ -11,7 +11,7 @@
 #include <cmath>
 #include <memory>
 
-#include "deformation_enrichment/acquisition/example_generation.hpp"
+#include "deformation_enrichment/acquisition/scene_acquisition.hpp"
 #include "deformation_enrichment/enrichment/contact_enricher.hpp"
 #include "deformation_enrichment/mesh/grid_tet_mesh.hpp"
 #include "deformation_enrichment/mesh/tet_surface.hpp"
@@ -44,7 +44,8 @@ Scene& scene() {
   // 150 x 150 x 3 cells: 45 904 + side vertices, ~50k surface vertices.
   const mesh::TetSurface slab = mesh::extractSurface(
       mesh::gridTetMesh(Eigen::Vector3d(-0.05, -0.05, 0.0), Eigen::Vector3d(0.05, 0.05, 0.02), Eigen::Vector3i(150, 150, 3)));
-  enrichment::ContactEnricherOptions options = acquisition::SlabAcquisitionOptions::defaultEnricherOptions();
+  const enrichment::ContactEnricherOptions options =
+      acquisition::enricherOptions(scene_file::readSceneFile(scene_file::findSceneFile("slab")));
   s->enricher = std::make_unique<enrichment::ContactEnricher>(slab.surface, options);
   const Eigen::Matrix3Xd& rest = slab.surface.vertices;
   examples::ExampleSet set;

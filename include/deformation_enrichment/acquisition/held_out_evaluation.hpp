@@ -7,18 +7,20 @@
 #include <functional>
 #include <vector>
 
-#include "deformation_enrichment/acquisition/example_generation.hpp"
+#include "deformation_enrichment/acquisition/scene_acquisition.hpp"
 #include "deformation_enrichment/enrichment/contact_enricher.hpp"
 
 namespace deformation_enrichment::acquisition {
 
 struct HeldOutCase {
   PlanEntry entry;
+  enrichment::Contact contact;  ///< where the tool meets the surface (rest state)
   InteractionResult result;
 };
 
-/// Coarse and fine solves of every entry; `progress(i)` (optional) is called before entry i.
-std::vector<HeldOutCase> simulateHeldOut(const SlabAcquisition& acquisition, const std::vector<PlanEntry>& entries,
+/// Coarse and fine solves of every entry (all entries are checked first); `progress(i)` (optional) is
+/// called before entry i.
+std::vector<HeldOutCase> simulateHeldOut(const SceneAcquisition& acquisition, const std::vector<PlanEntry>& entries,
                                          const std::function<void(std::size_t)>& progress = {});
 
 struct ContactScore {
@@ -35,7 +37,7 @@ struct HeldOutScore {
   double ratio() const { return coarseRms > 0.0 ? enrichedRms / coarseRms : 0.0; }
 };
 
-/// Enriches every case with `enricher` (examples already set, built on the acquisition's fine surface)
+/// Enriches every case with `enricher` (examples already set, built on the acquisition's display surface)
 /// and scores it. Each enrichment runs `repetitions` times (>= 1) for a median compute time. Throws
 /// InvalidInputError when the enricher has no examples or no case is given.
 HeldOutScore scoreHeldOut(enrichment::ContactEnricher& enricher, const std::vector<HeldOutCase>& cases, int repetitions = 1);

@@ -2,7 +2,8 @@
 // The run-time chain of [Seiler14 §5] for one contact, built once per loaded example set:
 //   eq. (15) weights of the current (rho, mu) against every example -> RBF interpolation with the
 //   examples' regularised kernel matrix -> blended stamp Psi = sum_i w~_i Psi[i] (eq. 16),
-// with the kernel widths fitted by leave-one-out cross-validation when the set is loaded.
+// with the kernel widths fitted by leave-one-out cross-validation when the set is loaded (examples at one
+// contact, several patterns of one site, leave together: leave-one-site-out).
 #include <Eigen/Core>
 #include <memory>
 #include <opencv2/core.hpp>
@@ -23,6 +24,9 @@ struct ExampleBlenderOptions {
   double lambda = RbfInterpolator::kDefaultRegularisation;
   /// Fit the widths for magnitude-aware stamps (contact_enricher.hpp), i.e. predicting with |mu| / |mu[i]|.
   bool magnitudeAware = false;
+  /// Scale w~ by the fit's cross-validated gain (KernelWidthFit::gain): a set whose examples do not predict
+  /// each other fades its detail. Without a fit the gain is 1.
+  bool crossValidatedGain = true;
 };
 
 struct BlendResult {
@@ -43,6 +47,8 @@ public:
   const KernelWidths& widths() const { return widths_; }
   /// The leave-one-out fit, if one was run.
   const std::optional<KernelWidthFit>& fit() const { return fit_; }
+  /// The factor on w~ (the fit's cross-validated gain, or 1).
+  double gain() const { return gain_; }
 
   /// New widths (e.g. reconfigured at run time): rebuilds the RBF interpolator (O(N^3)).
   void setWidths(const KernelWidths& widths);
@@ -59,6 +65,7 @@ private:
   double lambda_;
   KernelWidths widths_;
   std::optional<KernelWidthFit> fit_;
+  double gain_ = 1.0;
 };
 
 }  // namespace deformation_enrichment::enrichment

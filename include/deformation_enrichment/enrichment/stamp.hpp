@@ -23,6 +23,15 @@ Eigen::Matrix2Xd stampCoordinates(const Eigen::Matrix3Xd& points, const Eigen::V
 cv::Mat rasteriseStamp(const mesh::TriangleMesh& restPatch, const Eigen::Matrix3Xd& frameDisplacement,
                        const Eigen::Vector3d& p, const Eigen::Matrix3d& B, double radius, int resolution = 64);
 
+/// Rasterises the stamp of a displacement field on a whole surface: the patch of triangles that face b_z
+/// (seen from outside) and lie within reach of the stamp square around p (sqrt(2) R plus two `edge`
+/// lengths, `edge` the surface's longest edge) is cut out, `displacement` (3 x surface vertices, world
+/// axes) is brought to frame coordinates by `toFrame` and rasterised with rasteriseStamp. Throws
+/// InvalidInputError when no triangle faces the contact near p.
+cv::Mat rasteriseFacingPatch(const mesh::TriangleMesh& surface, const Eigen::Matrix3Xd& displacement, const Eigen::Vector3d& p,
+                             const Eigen::Matrix3d& toFrame, const Eigen::Matrix3d& B, double radius, int resolution,
+                             double edge);
+
 /// Bilinear look-up of `stamp` (CV_32FC3 over [-radius, radius]^2) at stamp coordinates (2 x n), in
 /// double precision; zero outside the square. `out` is resized to 3 x n. Throws InvalidInputError for a
 /// wrong stamp type or size, radius <= 0, or NaN coordinates.

@@ -4,11 +4,13 @@
 // displacement in frame coordinates, a regular grid over [-R, R]^2 around p[i]), plus how it was made.
 #include <Eigen/Core>
 #include <map>
+#include <optional>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
 #include "deformation_enrichment/hermite/moment_list.hpp"
+#include "deformation_enrichment/scene_file/scene_description.hpp"
 
 namespace deformation_enrichment::examples {
 
@@ -29,13 +31,24 @@ struct Example {
   double stampRadius = 0.0;  ///< R (m)
   InteractionPattern pattern;
   std::string sceneId;
+  int planLine = -1;  ///< 0-based line of the acquisition plan (orders merged shards); -1 unknown
+};
+
+/// How a set was made: the scene it was acquired on, every key explicit (materials, resolutions, units,
+/// tool, solve, stamp, descriptor options), its mesh and plan files by name with the FNV-1a 64 hash of
+/// their bytes.
+struct Provenance {
+  scene_file::SceneDescription scene;
+  std::map<std::string, std::string> fileHashes;  ///< file name -> 16 hex digits
 };
 
 /// Set-wide metadata written to the manifest.
 struct ExampleSetMetadata {
   std::string scene;                    ///< scene name, e.g. "slab"
-  std::map<std::string, double> material;  ///< named material parameters (SI units)
+  /// Named parameters of sets written before provenance existed (SI units); read for them, not written.
+  std::map<std::string, double> material;
   std::string description;
+  std::optional<Provenance> provenance;  ///< every set acquired by this version has one
 };
 
 struct ExampleSet {

@@ -13,6 +13,8 @@ struct TetGenMesh {
   TetMesh mesh;            ///< positively oriented tets (see readTetGen)
   Eigen::VectorXi region;  ///< per-tet region id (first tet attribute, rounded), 0 when the file has none
   int reorientedTets = 0;  ///< how many tets were read with negative orientation and flipped
+  Eigen::Index unusedNodes = 0;  ///< points no tet references
+  int indexBase = 0;       ///< the number of the first point in the files (0 or 1)
 };
 
 /// Reads `<base>.node` and `<base>.ele`. Index base (0 or 1) follows the first point's index, as TetGen
@@ -22,6 +24,9 @@ struct TetGenMesh {
 /// out-of-range indices throw IoError naming the file and line.
 TetGenMesh readTetGen(const std::string& base);
 /// The same from two streams holding the .node and .ele text; `base` names the files in error messages.
+TetGenMesh readTetGen(std::istream& node, std::istream& ele, const std::string& base);
+
+/// The same from two streams (the path version calls this); `base` names them in errors.
 TetGenMesh readTetGen(std::istream& node, std::istream& ele, const std::string& base);
 
 /// Writes `<base>.node` and `<base>.ele` (0-based indices). When `region` is non-empty it must hold one

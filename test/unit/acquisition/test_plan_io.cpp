@@ -5,7 +5,6 @@
 #include <string>
 #include <unistd.h>
 
-#include "deformation_enrichment/acquisition/example_generation.hpp"
 #include "deformation_enrichment/acquisition/plan_io.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "../expect_error.hpp"
@@ -28,7 +27,9 @@ void expectRejected(const std::string& text, const std::string& fragment) {
 }  // namespace
 
 TEST(PlanIo, RoundTripThroughAFile) {
-  const auto plan = acquisition::defaultSlabPlan();
+  // The shipped slab plan (ten lines with drags, depths and a z) survives a write and a read.
+  const auto plan = acquisition::readPlan(std::string(DE_SOURCE_DIR) + "/config/scenes/slab_plan.csv");
+  ASSERT_EQ(plan.size(), 10u);
   const std::string path = tempPath("plan.csv");
   acquisition::writePlan(path, plan);
   const auto read = acquisition::readPlan(path);

@@ -20,16 +20,25 @@ mesh::TriangleMesh slabSurface() {
       .surface;
 }
 
-// The options an acquisition run would use; none of them is the default.
+// The scene an acquisition run describes its examples with; none of its descriptor options is the default.
+scene_file::SceneDescription acquisitionScene(descriptors::Quadrature quadrature) {
+  scene_file::SceneDescription s;
+  s.name = "test";
+  s.procedural = scene_file::Procedural{};
+  s.material = {1e4, 0.45};
+  s.descriptors.windowScale = 0.007;
+  s.descriptors.cutoff = 3.5;
+  s.descriptors.averageQuadrature = quadrature == descriptors::Quadrature::Average;
+  s.descriptors.sampleSpacing = 0.0025;
+  s.stamp.radius = 0.018;
+  return s;
+}
+
+// The enricher options acquisition uses for that scene, with lower orders than the defaults.
 enrichment::ContactEnricherOptions acquisitionOptions(descriptors::Quadrature quadrature) {
-  enrichment::ContactEnricherOptions o;
-  o.descriptors.window.scale = 0.007;
-  o.descriptors.window.cutoff = 3.5;
-  o.descriptors.window.quadrature = quadrature;
+  enrichment::ContactEnricherOptions o = enrichment::optionsFor(acquisitionScene(quadrature));
   o.descriptors.siteOrder = 2;
   o.descriptors.deformationOrder = 1;
-  o.stampRadius = 0.018;
-  o.sampleSpacing = 0.0025;
   return o;
 }
 
@@ -42,9 +51,10 @@ Eigen::Matrix3Xd dented(const Eigen::Matrix3Xd& rest) {
   return current;
 }
 
-// The set acquisition writes: one example described with `options`, the metadata acquisition records.
-examples::ExampleSet acquiredSet(const enrichment::ContactEnricherOptions& options, const mesh::TriangleMesh& rest,
+// The set acquisition writes: one example described with the scene's options, its provenance.
+examples::ExampleSet acquiredSet(descriptors::Quadrature quadrature, const mesh::TriangleMesh& rest,
                                  const enrichment::Contact& contact) {
+  const enrichment::ContactEnricherOptions options = acquisitionOptions(quadrature);
   const enrichment::ContactEnricher acquisition(rest, options);
   const enrichment::ContactDescription d = acquisition.describe(dented(rest.vertices), contact);
   examples::Example e;
@@ -55,7 +65,7 @@ examples::ExampleSet acquiredSet(const enrichment::ContactEnricherOptions& optio
   e.stamp = cv::Mat(4, 4, CV_32FC3, cv::Scalar::all(0.0));
   e.stampRadius = options.stampRadius;
   examples::ExampleSet set;
-  set.metadata.material = enrichment::descriptorMetadata(options);
+  set.metadata.provenance = examples::Provenance{acquisitionScene(quadrature), {}};
   set.examples.push_back(e);
   return set;
 }
@@ -69,7 +79,7 @@ TEST(ExampleSetOptions, EachQuadratureIsDescribedAtRunTimeExactlyAsAcquired) {
   for (const auto quadrature : {descriptors::Quadrature::Volume, descriptors::Quadrature::Average}) {
     SCOPED_TRACE(quadrature == descriptors::Quadrature::Volume ? "volume" : "average");
     const enrichment::ContactEnricherOptions acquired = acquisitionOptions(quadrature);
-    const examples::ExampleSet set = acquiredSet(acquired, rest, contact);
+    const examples::ExampleSet set = acquiredSet(quadrature, rest, contact);
     const enrichment::ContactEnricherOptions runTime = enrichment::optionsFor(set);
     EXPECT_EQ(runTime.descriptors.window.quadrature, quadrature);
     EXPECT_EQ(runTime.descriptors.window.scale, acquired.descriptors.window.scale);
@@ -88,17 +98,19 @@ TEST(ExampleSetOptions, EachQuadratureIsDescribedAtRunTimeExactlyAsAcquired) {
     EXPECT_EQ(d.B, e.frame);
   }
   // The two quadratures really describe the contact differently (or the test above would prove nothing).
-  const examples::ExampleSet volume = acquiredSet(acquisitionOptions(descriptors::Quadrature::Volume), rest, contact);
-  const examples::ExampleSet average = acquiredSet(acquisitionOptions(descriptors::Quadrature::Average), rest, contact);
+  const examples::ExampleSet volume = acquiredSet(descriptors::Quadrature::Volume, rest, contact);
+  const examples::ExampleSet average = acquiredSet(descriptors::Quadrature::Average, rest, contact);
   EXPECT_GT((volume.examples.front().rho.values() - average.examples.front().rho.values()).norm(), 0.0);
 }
 
-TEST(ExampleSetOptions, UnrecordedEntriesKeepTheDefaultsAndBadValuesAreRefused) {
+TEST(ExampleSetOptions, SetsWithoutProvenanceUseTheirMetadataAndBadValuesAreRefused) {
   const mesh::TriangleMesh rest = slabSurface();
   enrichment::Contact contact;
   contact.point = Eigen::Vector3d(0.0, 0.0, 0.02);
-  examples::ExampleSet set = acquiredSet(acquisitionOptions(descriptors::Quadrature::Volume), rest, contact);
-  set.metadata.material.erase("window_cutoff_h");  // a set written before the cut-off was recorded
+  // A set written before provenance existed: named entries, the cut-off not among them.
+  examples::ExampleSet set = acquiredSet(descriptors::Quadrature::Average, rest, contact);
+  set.metadata.provenance.reset();
+  set.metadata.material = {{"window_scale_m", 0.007}, {"site_sample_spacing_m", 0.0025}, {"average_quadrature", 1.0}};
   enrichment::ContactEnricherOptions defaults;
   defaults.descriptors.window.cutoff = 4.5;
   defaults.rimBand = 0.3;  // run-time knob: kept
@@ -106,6 +118,8 @@ TEST(ExampleSetOptions, UnrecordedEntriesKeepTheDefaultsAndBadValuesAreRefused) 
   EXPECT_EQ(o.descriptors.window.cutoff, 4.5);
   EXPECT_EQ(o.rimBand, 0.3);
   EXPECT_EQ(o.descriptors.window.scale, 0.007);
+  EXPECT_EQ(o.descriptors.window.quadrature, descriptors::Quadrature::Average);
+  EXPECT_EQ(o.stampRadius, 0.018);
 
   for (const double bad : {0.0, -0.01, std::numeric_limits<double>::quiet_NaN()}) {
     examples::ExampleSet broken = set;

@@ -50,13 +50,15 @@ namespace {
 
 // Explicit leave-one-out: per held-out example a fresh table and interpolator of the others, eq. (15)
 // weights by correlate(), the eq. (16) stamp by blendStamps() of the stamps scaled by m_k / m_i when
-// `magnitudes` are given (magnitude-aware stamps). Returns the relative error.
-double explicitLeaveOneOut(const SyntheticSet& set, const en::KernelWidths& widths, const Eigen::VectorXd& magnitudes) {
+// `magnitudes` are given (magnitude-aware stamps), the prediction scaled by `gain`. With `groups`, the
+// examples of k's group are left out with it. Returns the relative error.
+double explicitLeaveOneOut(const SyntheticSet& set, const en::KernelWidths& widths, const Eigen::VectorXd& magnitudes,
+                           const std::vector<int>& groups = {}, double gain = 1.0) {
   double error = 0.0, norm = 0.0;
   for (std::size_t k = 0; k < set.stamps.size(); ++k) {
     SyntheticSet others;
     for (std::size_t i = 0; i < set.stamps.size(); ++i)
-      if (i != k) {
+      if (i != k && (groups.empty() || groups[i] != groups[k])) {
         others.rho.push_back(set.rho[i]);
         others.mu.push_back(set.mu[i]);
         cv::Mat stamp = set.stamps[i].clone();
@@ -69,7 +71,7 @@ double explicitLeaveOneOut(const SyntheticSet& set, const en::KernelWidths& widt
     en::correlate(t, set.rho[k], set.mu[k], widths, c);
     en::RbfWeights w;
     rbf.interpolate(c.weights, w);
-    const cv::Mat predicted = en::blendStamps(others.stamps, w.weights);
+    const cv::Mat predicted = en::blendStamps(others.stamps, gain * w.weights);
     cv::Mat diff;
     cv::subtract(predicted, set.stamps[k], diff, cv::noArray(), CV_64FC3);
     error += diff.dot(diff);
@@ -97,6 +99,33 @@ TEST(KernelWidthFitting, GramShortcutMatchesExplicitLeaveOneOut) {
               1e-6 * aware + 1e-9);
   EXPECT_GT(std::abs(aware - plain), 1e-3 * plain);  // the magnitudes do change the prediction
   EXPECT_THROW(en::leaveOneOutError(d, gram, widths, 1e-3, Eigen::VectorXd::Ones(3)), de::InvalidInputError);
+}
+
+TEST(KernelWidthFitting, SitesLeaveTogetherAndTheCrossValidatedGainMinimisesTheError) {
+  const SyntheticSet set = syntheticSet();
+  const en::ExampleDescriptorTable table(set.rho, set.mu);
+  const en::ExampleDissimilarities d = en::exampleDissimilarities(table, set.rho, set.mu);
+  const Eigen::MatrixXd gram = en::stampGramMatrix(set.stamps);
+  const en::KernelWidths widths{0.6, 0.08};
+  // Pairs of consecutive examples as sites: each pair is predicted from the other pairs only.
+  std::vector<int> pairs, alone;
+  for (std::size_t i = 0; i < set.stamps.size(); ++i) pairs.push_back(static_cast<int>(i / 2)), alone.push_back(static_cast<int>(i));
+  const double grouped = explicitLeaveOneOut(set, widths, Eigen::VectorXd(), pairs);
+  EXPECT_NEAR(en::leaveOneOutError(d, gram, widths, en::RbfInterpolator::kDefaultRegularisation, Eigen::VectorXd(), pairs), grouped,
+              1e-6 * grouped + 1e-9);
+  EXPECT_NEAR(en::leaveOneOutError(d, gram, widths, en::RbfInterpolator::kDefaultRegularisation, Eigen::VectorXd(), alone),
+              en::leaveOneOutError(d, gram, widths), 1e-12);
+  EXPECT_GT(std::abs(grouped - explicitLeaveOneOut(set, widths, Eigen::VectorXd())), 1e-3 * grouped);
+  // The gain of the fit is the best scale of the held-out predictions (checked against scanning it), in
+  // [0, 1], and its error is that of the scaled prediction.
+  const en::KernelWidthFit fit = en::fitKernelWidths(d, gram, en::defaultKernelWidthGrid(d, 6),
+                                                     en::RbfInterpolator::kDefaultRegularisation, Eigen::VectorXd(), pairs);
+  EXPECT_GE(fit.gain, 0.0);
+  EXPECT_LE(fit.gain, 1.0);
+  EXPECT_NEAR(fit.gainedError, explicitLeaveOneOut(set, fit.best, Eigen::VectorXd(), pairs, fit.gain), 1e-6);
+  EXPECT_LE(fit.gainedError, fit.bestError + 1e-12);
+  for (const double other : {0.5 * fit.gain, std::min(1.0, 1.2 * fit.gain), 0.0})
+    EXPECT_LE(fit.gainedError, explicitLeaveOneOut(set, fit.best, Eigen::VectorXd(), pairs, other) + 1e-9) << other;
 }
 
 TEST(KernelWidthFitting, BestWidthsLieWhereTheExampleSpacingSaysAndBeatTheGridEdges) {

@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
+#include <string>
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/barycentric_embedding.hpp"
@@ -67,4 +69,44 @@ TEST(BarycentricEmbedding, RejectsFarPointsNaNAndWrongFieldSize) {
   inside << 0.5, 0.5, 0.5;
   const auto embedding = mesh::embedPoints(coarse, inside, 0.0);
   EXPECT_THROW(mesh::interpolate(embedding, coarse, Eigen::Matrix3Xd::Zero(3, 5)), InvalidInputError);
+}
+
+TEST(BarycentricEmbedding, OutsidePointsExtendTheNearestTetAffinelyAndAreReported) {
+  // SOFA-style extrapolation: an outside point's weights are its barycentric coordinates in the nearest
+  // tet, some negative, and they reproduce the point itself (the identity is an affine field).
+  const mesh::TetMesh coarse = mesh::gridTetMesh(Eigen::Vector3d::Zero(), Eigen::Vector3d(1, 2, 1), Eigen::Vector3i(2, 3, 2));
+  Eigen::Matrix3Xd points(3, 5);
+  points << 0.5, 1.03, 0.2, -0.01, 0.7,  //
+      1.0, 1.5, -0.02, 1.0, 2.0,         //
+      0.5, 0.5, 1.04, 0.3, 1.0;          // inside, beside x = 1, below y = 0 and above z = 1, beside x = 0, on an edge
+  const mesh::BarycentricEmbedding embedding = mesh::embedPoints(coarse, points, 0.1);
+  const Eigen::Matrix3Xd back = mesh::interpolate(embedding, coarse, coarse.vertices);
+  EXPECT_LT((back - points).cwiseAbs().maxCoeff(), 1e-14);
+  const double expected[] = {0.0, 0.03, std::hypot(0.02, 0.04), 0.01, 0.0};
+  for (Eigen::Index i = 0; i < points.cols(); ++i) {
+    EXPECT_NEAR(embedding.outside[i], expected[i], 1e-12) << i;
+    if (expected[i] > 0.0) {
+      EXPECT_LT(embedding.weights.col(i).minCoeff(), -1e-3) << i;
+    }
+  }
+  EXPECT_EQ(embedding.report.outside, 3);  // the edge point is on the mesh (distance round-off at most)
+  EXPECT_NEAR(embedding.report.maxDistance, std::hypot(0.02, 0.04), 1e-12);
+  EXPECT_NEAR(embedding.report.meanDistance, (0.03 + std::hypot(0.02, 0.04) + 0.01) / 3.0, 1e-12);
+  EXPECT_NE(mesh::describe(embedding.report, points.cols()).find("3 of 5 points outside"), std::string::npos);
+}
+
+TEST(BarycentricEmbedding, RefusalSaysHowManyAndHowFar) {
+  const mesh::TetMesh coarse = mesh::gridTetMesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), Eigen::Vector3i(3, 3, 3));
+  Eigen::Matrix3Xd points(3, 4);
+  points << 0.5, 1.5, 3.0, 1.05,  //
+      0.5, 0.5, 0.5, 0.5,         //
+      0.5, 0.5, 0.5, 0.5;
+  try {
+    mesh::embedPoints(coarse, points, 0.1);
+    ADD_FAILURE() << "no error";
+  } catch (const InvalidInputError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("2 of 4 points are farther than 0.1 m"), std::string::npos) << message;
+    EXPECT_NE(message.find("point 2, is 2 m away"), std::string::npos) << message;
+  }
 }

@@ -1,11 +1,20 @@
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
+#include <sstream>
+#include <vector>
+
+#include "cgal_data.hpp"
 
 #include "deformation_enrichment/error.hpp"
+#include "expect_io_error.hpp"
 #include "deformation_enrichment/mesh/grid_tet_mesh.hpp"
 #include "deformation_enrichment/mesh/mesh_io.hpp"
+#include "deformation_enrichment/mesh/surface_report.hpp"
 #include "deformation_enrichment/mesh/tet_surface.hpp"
 
 using namespace deformation_enrichment;
@@ -50,6 +59,7 @@ TEST(MeshIo, ReadsAssimpTestModels) {
 TEST(MeshIo, CorruptMissingAndFacelessFilesGiveIoError) {
   EXPECT_THROW(mesh::readTriangleMesh(tempPath("missing.obj")), IoError);
   EXPECT_THROW(mesh::readTriangleMesh(tempPath("mesh.stl")), IoError);
+  EXPECT_THROW(mesh::readTriangleMesh(tempPath("mesh.vrml")), IoError);
   const std::string corrupt = tempPath("corrupt.ply");
   std::ofstream(corrupt) << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n1\n";
   EXPECT_THROW(mesh::readTriangleMesh(corrupt), IoError);
@@ -60,4 +70,122 @@ TEST(MeshIo, CorruptMissingAndFacelessFilesGiveIoError) {
   std::ofstream(points) << "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
   EXPECT_THROW(mesh::readTriangleMesh(points), IoError);
   for (const auto& p : {corrupt, outOfRange, points}) std::remove(p.c_str());
+}
+
+namespace {
+/// Binary STL bytes: 80-byte header, facet count, per facet a normal, three corners and two spare bytes.
+std::string binaryStl(const std::vector<std::array<float, 9>>& facets, const char* header = "written by the test") {
+  std::string bytes(80, ' ');
+  std::memcpy(bytes.data(), header, std::strlen(header));
+  const std::uint32_t count = static_cast<std::uint32_t>(facets.size());
+  bytes.append(reinterpret_cast<const char*>(&count), 4);
+  for (const auto& facet : facets) {
+    const float normal[3] = {0, 0, 0};
+    bytes.append(reinterpret_cast<const char*>(normal), 12);
+    bytes.append(reinterpret_cast<const char*>(facet.data()), 36);
+    bytes.append(2, '\0');
+  }
+  return bytes;
+}
+
+const std::vector<std::array<float, 9>> kTetFacets = {{0, 0, 0, 0, 1, 0, 1, 0, 0}, {0, 0, 0, 1, 0, 0, 0, 0, 1},
+                                                      {0, 0, 0, 0, 0, 1, 0, 1, 0}, {1, 0, 0, 0, 1, 0, 0, 0, 1}};
+
+}  // namespace
+
+TEST(MeshIo, ReadsCgalOffAndStlMeshes) {
+  DE_REQUIRE_CGAL_DATA();
+  const std::string dir = test::CgalData::dir() + "data/meshes/";
+  const mesh::TriangleMesh femur = mesh::readTriangleMesh(dir + "femur.off");  // header: 3897 7798 0
+  EXPECT_EQ(femur.numVertices(), 3897);
+  EXPECT_EQ(femur.numTriangles(), 7798);
+  EXPECT_TRUE(mesh::inspectSurface(femur).closedManifold()) << mesh::describe(mesh::inspectSurface(femur));
+  const mesh::TriangleMesh quads = mesh::readTriangleMesh(dir + "cube_quad.off");  // 6 quads -> 12 triangles
+  EXPECT_EQ(quads.numVertices(), 8);
+  EXPECT_EQ(quads.numTriangles(), 12);
+  EXPECT_TRUE(mesh::inspectSurface(quads).closedManifold());
+  // Binary STL stores every corner per facet: CGAL merges identical corners, which closes the surface.
+  const mesh::TriangleMesh sphereStl = mesh::readTriangleMesh(dir + "sphere.stl");
+  const mesh::SurfaceReport sphere = mesh::inspectSurface(sphereStl);
+  EXPECT_EQ(sphere.triangles, (16084 - 84) / 50);
+  EXPECT_TRUE(sphere.closedManifold()) << mesh::describe(sphere);
+  EXPECT_EQ(sphere.duplicateVertices, 0);
+  EXPECT_EQ(2 * sphere.vertices - 4, sphere.triangles);  // Euler: a closed genus-0 triangle mesh
+  const mesh::TriangleMesh pig = mesh::readTriangleMesh(dir + "pig.stl");
+  EXPECT_EQ(pig.numTriangles(), (842484 - 84) / 50);
+  EXPECT_NO_THROW(mesh::validate(pig, false));
+}
+
+TEST(MeshIo, StlAsciiAndBinaryFromStreamsAndFiles) {
+  const std::string ascii =
+      "solid tet\n"
+      "facet normal 0 0 -1\n outer loop\n  vertex 0 0 0\n  vertex 0 1 0\n  vertex 1 0 0\n endloop\nendfacet\n"
+      "facet normal 0 -1 0\n outer loop\n  vertex 0 0 0\n  vertex 1 0 0\n  vertex 0 0 1\n endloop\nendfacet\n"
+      "facet normal -1 0 0\n outer loop\n  vertex 0 0 0\n  vertex 0 0 1\n  vertex 0 1 0\n endloop\nendfacet\n"
+      "facet normal 1 1 1\n outer loop\n  vertex 1 0 0\n  vertex 0 1 0\n  vertex 0 0 1\n endloop\nendfacet\n"
+      "endsolid tet\n";
+  for (const std::string& bytes : {ascii, binaryStl(kTetFacets), binaryStl(kTetFacets, "solid but binary")}) {
+    std::istringstream in(bytes, std::ios::binary);
+    const mesh::TriangleMesh tet = mesh::readTriangleMesh(in, mesh::SurfaceFormat::Stl, "tet.stl");
+    EXPECT_EQ(tet.numVertices(), 4);  // corners merged in order of first use
+    EXPECT_EQ(tet.vertices.col(1), Eigen::Vector3d(0, 1, 0));
+    const mesh::SurfaceReport report = mesh::inspectSurface(tet);
+    EXPECT_TRUE(report.closedManifold()) << mesh::describe(report);
+  }
+  const std::string path = tempPath("tet.stl");
+  std::ofstream(path, std::ios::binary) << binaryStl(kTetFacets);
+  EXPECT_EQ(mesh::readTriangleMesh(path).numTriangles(), 4);
+  std::remove(path.c_str());
+}
+
+TEST(MeshIo, CorruptOffAndStlNameFileAndPosition) {
+  const auto readOff = [](const std::string& text) {
+    return [text] {
+      std::istringstream in(text);
+      mesh::readTriangleMesh(in, mesh::SurfaceFormat::Off, "bad.off");
+    };
+  };
+  test::expectIoError(readOff("OFF\n3 1 0\n0 0 0\n1 0 0\n"), {"bad.off", "OFF", "line"});
+  test::expectIoError(readOff("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n"), {"bad.off", "line 6"});
+  test::expectIoError(readOff("OFF\n3 1 0\n0 0 0\n1 0 x\n0 1 0\n3 0 1 2\n"), {"bad.off", "line 4"});
+  test::expectIoError(readOff("OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n"), {"bad.off", "no triangles"});
+  std::string truncated = binaryStl(kTetFacets);
+  truncated.resize(truncated.size() - 30);
+  test::expectIoError(
+      [&] {
+        std::istringstream in(truncated, std::ios::binary);
+        mesh::readTriangleMesh(in, mesh::SurfaceFormat::Stl, "cut.stl");
+      },
+      {"cut.stl", "STL", "byte"});
+  // OBJ and PLY streams go to the core's readers: a file without faces is refused naming the source.
+  std::istringstream faceless("v 0 0 0\n");
+  EXPECT_THROW(mesh::readTriangleMesh(faceless, mesh::SurfaceFormat::Obj, "x.obj"), IoError);
+  std::istringstream triangle("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  EXPECT_EQ(mesh::readTriangleMesh(triangle, mesh::SurfaceFormat::Obj, "t.obj").numTriangles(), 1);
+}
+
+TEST(SurfaceReport, CountsDuplicatesDegenerateOpenAndNonManifoldEdges) {
+  std::istringstream in(
+      "OFF\n7 5 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 0 0\n2 0 0\n5 5 5\n"
+      "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 0 1 5\n3 0 4 1\n");  // open tet, a fin on edge 0-1, a flat triangle
+  const mesh::TriangleMesh mesh = mesh::readTriangleMesh(in, mesh::SurfaceFormat::Off, "report.off");
+  const mesh::SurfaceReport report = mesh::inspectSurface(mesh);
+  EXPECT_EQ(report.duplicateVertices, 1);    // vertex 4 sits on vertex 1
+  EXPECT_EQ(report.unusedVertices, 1);       // vertex 6
+  EXPECT_EQ(report.degenerateTriangles, 2);  // (0, 1, 5) collinear, (0, 4, 1) coincident corners
+  EXPECT_EQ(report.nonManifoldEdges, 0);
+  EXPECT_EQ(report.boundaryEdges, 3);        // the missing face's edges
+  EXPECT_FALSE(report.closedManifold());
+  mesh::TriangleMesh closed = mesh;
+  closed.triangles.col(3) << 1, 2, 3;  // the missing face: a closed tet (plus the flat triangle)
+  EXPECT_TRUE(mesh::inspectSurface(closed).closedManifold()) << mesh::describe(mesh::inspectSurface(closed));
+  mesh::TriangleMesh flipped = closed;
+  flipped.triangles.col(3) << 1, 3, 2;
+  EXPECT_EQ(mesh::inspectSurface(flipped).misorientedEdges, 3);
+  mesh::TriangleMesh fin = mesh;
+  fin.triangles.col(3) << 0, 1, 2;  // a third triangle on edges 0-1 and 0-2
+  const mesh::SurfaceReport finReport = mesh::inspectSurface(fin);
+  EXPECT_EQ(finReport.nonManifoldEdges, 2);
+  EXPECT_EQ(finReport.boundaryEdges, 2);
+  EXPECT_NE(mesh::describe(report).find("2 zero-area triangles"), std::string::npos) << mesh::describe(report);
 }

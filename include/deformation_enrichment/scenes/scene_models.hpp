@@ -1,0 +1,30 @@
+#pragma once
+// The coarse and fine simulation models of one scene file, and the display surface on the fine model
+// (docs/design.md §6). Procedural scenes build both as layered grids of one shape; a scene with mesh files
+// uses the user's coarse tet mesh (or tetrahedralises a simplified surface) and a fine tet mesh conforming
+// to the display surface (tetgen -pY keeps its vertices), so that fine - coarse lives on the display surface.
+#include <string>
+#include <vector>
+
+#include "deformation_enrichment/mesh/triangle_mesh.hpp"
+#include "deformation_enrichment/scene_file/scene_description.hpp"
+#include "deformation_enrichment/scenes/procedural_scene.hpp"
+
+namespace deformation_enrichment::scenes {
+
+struct SceneModels {
+  std::string name;
+  Scene coarse;  ///< material ids kBulkMaterial / kSkinMaterial, fixed and touchable (top) vertices
+  Scene fine;
+  mesh::TriangleMesh surface;     ///< the display surface (m): the fine model's boundary
+  std::vector<int> surfaceToFine; ///< display vertex -> fine volume vertex
+  double fineEdge = 0.0;          ///< longest display-surface edge (m)
+  std::string report;             ///< what was read or made (counts, reoriented / skipped cells, seconds)
+};
+
+/// Builds both models. Throws InvalidInputError / IoError naming the file or key for unreadable meshes, a
+/// surface tetgen cannot tetrahedralise, a fixed region with fewer than 3 non-collinear nodes in either
+/// model, or fixed node ids beyond the volume.
+SceneModels buildSceneModels(const scene_file::SceneDescription& scene);
+
+}  // namespace deformation_enrichment::scenes

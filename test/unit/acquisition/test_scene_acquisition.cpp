@@ -1,0 +1,204 @@
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <filesystem>
+#include <limits>
+#include <unistd.h>
+
+#include "deformation_enrichment/acquisition/held_out_evaluation.hpp"
+#include "deformation_enrichment/examples/example_set_io.hpp"
+#include "deformation_enrichment/enrichment/stamp.hpp"
+#include "deformation_enrichment/error.hpp"
+
+using namespace deformation_enrichment;
+
+namespace {
+
+// A small slab scene: coarse 6 x 6 x 1 (+1 skin layer), fine 12 x 12 x 2 (+1), one indent and drag step.
+scene_file::SceneDescription tiny() {
+  scene_file::SceneDescription d = scene_file::readSceneFile(scene_file::findSceneFile("slab"));
+  d.procedural->coarseCells = Eigen::Vector3i(6, 6, 1);
+  d.procedural->fineCells = Eigen::Vector3i(12, 12, 2);
+  d.procedural->fineSkinLayers = 1;
+  d.solve.indentSteps = 1;
+  d.solve.dragSteps = 1;
+  d.stamp.resolution = 16;
+  d.descriptors.windowScale = 0.008;
+  d.descriptors.sampleSpacing = 0.004;
+  return d;
+}
+
+}  // namespace
+
+TEST(SceneAcquisition, IdenticalCoarseAndFineGiveAZeroStamp) {
+  // Same resolution for both: the embedding is exact and d = fine - coarse must vanish.
+  auto o = tiny();
+  o.procedural->fineCells = o.procedural->coarseCells;
+  o.procedural->fineSkinLayers = o.procedural->coarseSkinLayers;
+  acquisition::SceneAcquisition acq(o);
+  acquisition::PlanEntry e;
+  e.point = Eigen::Vector3d(0.0, 0.0, 0.02);
+  e.depth = 0.002;
+  e.drag = Eigen::Vector3d(0.003, 0.0, 0.0);
+  const auto r = acq.simulate(e);
+  EXPECT_TRUE(r.converged) << r.message;
+  EXPECT_LT((r.fine - r.coarseOnFine).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_GT((r.fine - acq.fineSurface().vertices).cwiseAbs().maxCoeff(), 1e-3);  // it did move
+  const examples::Example ex = acq.makeExample(e, r);
+  double maxStamp = 0.0;
+  for (int j = 0; j < ex.stamp.rows; ++j)
+    for (int k = 0; k < ex.stamp.cols; ++k) maxStamp = std::max(maxStamp, cv::norm(ex.stamp.at<cv::Vec3f>(j, k)));
+  EXPECT_LT(maxStamp, 1e-8);
+}
+
+TEST(SceneAcquisition, FineDetailIsCapturedAndReproducedByTheEnricher) {
+  acquisition::SceneAcquisition acq(tiny());
+  acquisition::PlanEntry e;
+  e.point = Eigen::Vector3d(0.002, -0.001, 0.02);
+  e.depth = 0.003;
+  const auto r = acq.simulate(e);
+  EXPECT_TRUE(r.converged) << r.message;
+  const examples::Example ex = acq.makeExample(e, r);
+  EXPECT_NO_THROW(examples::validateExample(ex));
+  EXPECT_EQ(ex.stamp.rows, 16);
+  EXPECT_DOUBLE_EQ(ex.stampRadius, acq.scene().stamp.radius);
+  EXPECT_NEAR(ex.frame.col(2).z(), 1.0, 1e-6);
+  const double dMax = (r.fine - r.coarseOnFine).cwiseAbs().maxCoeff();
+  EXPECT_GT(dMax, 1e-5);  // coarse and fine differ
+  // One-example set at its own contact, scored like held-out data: the enriched state must be much closer
+  // to the fine one than the coarse state is.
+  examples::ExampleSet set;
+  set.metadata.scene = "slab";
+  set.examples.push_back(ex);
+  enrichment::ExampleBlenderOptions b;
+  b.fitWidths = false;
+  enrichment::ContactEnricherOptions options = acquisition::enricherOptions(acq.scene());
+  options.rimBand = 0.0;  // the rim fade alone costs ~0.26 of the coarse error here: test the pipeline
+  enrichment::ContactEnricher enricher(acq.fineSurface(), options);
+  enricher.setExamples(set, b);
+  const acquisition::HeldOutScore score = acquisition::scoreHeldOut(enricher, {{e, acq.contactOf(e), r}}, 3);
+  ASSERT_EQ(score.contacts.size(), 1u);
+  EXPECT_GT(score.contacts[0].vertices, 10);
+  EXPECT_GT(score.coarseRms, 1e-5);
+  EXPECT_LT(score.ratio(), 0.15);  // what is left: 16-node stamp discretisation
+  EXPECT_GT(score.secondsPerFrame, 0.0);
+}
+
+TEST(SceneAcquisition, AcquiredSetResumesWithoutRecomputing) {
+  auto o = tiny();
+  acquisition::SceneAcquisition acq(o);
+  std::vector<acquisition::PlanEntry> plan(2);
+  plan[0].point = Eigen::Vector3d(0.0, 0.0, 0.02);
+  plan[0].depth = 0.002;
+  plan[1].point = Eigen::Vector3d(0.01, 0.005, 0.02);
+  plan[1].depth = 0.003;
+  plan[1].drag = Eigen::Vector3d(0.002, 0.0, 0.0);
+  const std::string dir = "/tmp/de_acq_" + std::to_string(::getpid()) + "_set";
+  std::filesystem::remove_all(dir);
+  const examples::ExampleSet first = acq.acquireSet({plan[0]}, dir);
+  ASSERT_EQ(first.examples.size(), 1u);
+  std::ostringstream log;
+  const examples::ExampleSet both = acq.acquireSet(plan, dir, &log);
+  ASSERT_EQ(both.examples.size(), 2u);
+  EXPECT_NE(log.str().find("[1/2] plan line 1 already acquired"), std::string::npos) << log.str();
+  EXPECT_EQ(cv::norm(both.examples[0].stamp, first.examples[0].stamp, cv::NORM_INF), 0.0);
+  const examples::ExampleSet loaded = examples::loadExampleSet(dir);
+  ASSERT_EQ(loaded.examples.size(), 2u);
+  EXPECT_EQ(loaded.examples[1].planLine, 1);
+  // The provenance is the scene, typed: it reads back equal.
+  ASSERT_TRUE(loaded.metadata.provenance);
+  EXPECT_EQ(scene_file::sceneYaml(loaded.metadata.provenance->scene), scene_file::sceneYaml(o));
+  // Another stamp resolution is another set: nothing is reused.
+  o.stamp.resolution = 8;
+  std::ostringstream again;
+  acquisition::SceneAcquisition(o).acquireSet({plan[0]}, dir, &again);
+  EXPECT_EQ(again.str().find("already acquired"), std::string::npos);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(SceneAcquisition, CoarsePathEndsInTheSimulatedCoarseState) {
+  const auto o = tiny();
+  const acquisition::SceneAcquisition acq(o);
+  acquisition::PlanEntry e;
+  e.point = Eigen::Vector3d(0.004, 0.003, 0.02);
+  e.depth = 0.002;
+  e.drag = Eigen::Vector3d(0.0, 0.002, 0.0);
+  std::string message;
+  const auto path = acq.coarsePath(e, o.solve.indentSteps, o.solve.dragSteps, &message);
+  ASSERT_EQ(path.size(), static_cast<std::size_t>(1 + o.solve.indentSteps + o.solve.dragSteps));
+  EXPECT_TRUE(message.empty()) << message;
+  EXPECT_EQ(path.front(), acq.fineSurface().vertices);
+  EXPECT_LT((path.back() - acq.simulate(e).coarseOnFine).cwiseAbs().maxCoeff(), 1e-9);
+  // The surface under the tool goes down monotonically while indenting.
+  Eigen::Index under = 0;
+  (acq.fineSurface().vertices.colwise() - e.point).colwise().squaredNorm().minCoeff(&under);
+  for (int step = 1; step <= o.solve.indentSteps; ++step)
+    EXPECT_LT(path[static_cast<std::size_t>(step)](2, under), path[static_cast<std::size_t>(step - 1)](2, under) - 1e-4);
+  e.drag.setZero();
+  EXPECT_EQ(acq.coarsePath(e, 3, 5).size(), 4u);  // no drag, no drag steps
+  EXPECT_THROW(acq.coarsePath(e, 0, 1), InvalidInputError);
+}
+
+TEST(SceneAcquisition, PlanPointsAreProjectedOntoTheSurfaceAndBadOnesRefusedBeforeWriting) {
+  const acquisition::SceneAcquisition acq(tiny());
+  acquisition::PlanEntry e;
+  e.point = Eigen::Vector3d(0.004, 0.003, 0.025);  // 5 mm above the top
+  e.depth = 0.002;
+  e.drag = Eigen::Vector3d(0.002, 0.0, 0.001);
+  const acquisition::ToolPath path = acq.toolPath(e);
+  EXPECT_LT((path.contact - Eigen::Vector3d(0.004, 0.003, 0.02)).norm(), 1e-12);
+  EXPECT_LT((path.inward + Eigen::Vector3d::UnitZ()).norm(), 1e-12);
+  EXPECT_LT((path.drag - Eigen::Vector3d(0.002, 0.0, 0.0)).norm(), 1e-12);  // the tangential part only
+  // Farther than the stamp radius from the surface, or on the held bottom: refused, nothing written.
+  const std::string dir = "/tmp/de_acq_" + std::to_string(::getpid()) + "_refused";
+  std::filesystem::remove_all(dir);
+  acquisition::PlanEntry far = e, bottom = e;
+  far.point.z() = 0.2;
+  bottom.point.z() = -0.001;
+  for (const auto& bad : {far, bottom}) {
+    EXPECT_THROW(acq.toolPath(bad), InvalidInputError);
+    acquisition::SceneAcquisition writer(tiny());
+    EXPECT_THROW(writer.acquireSet({e, bad}, dir), InvalidInputError);
+    EXPECT_FALSE(std::filesystem::exists(dir)) << "nothing may be written for a bad plan";
+  }
+}
+
+TEST(SceneAcquisition, ShardsMergeIntoTheSingleRunsSet) {
+  acquisition::SceneAcquisition acq(tiny());
+  std::vector<acquisition::PlanEntry> plan(3);
+  for (int k = 0; k < 3; ++k) {
+    plan[k].point = Eigen::Vector3d(-0.01 + 0.01 * k, 0.004, 0.02);
+    plan[k].depth = 0.002;
+  }
+  const std::string base = "/tmp/de_acq_" + std::to_string(::getpid());
+  for (const char* d : {"_one", "_s1", "_s2", "_merged"}) std::filesystem::remove_all(base + d);
+  acq.acquireSet(plan, base + "_one");
+  acq.acquireSet(plan, base + "_s1", nullptr, {1, 2});  // lines 1 and 3
+  acq.acquireSet(plan, base + "_s2", nullptr, {2, 2});  // line 2
+  EXPECT_EQ(examples::loadExampleSet(base + "_s1").examples.size(), 2u);
+  const std::string merge = std::string(DE_TOOL_DIR) + "/de_merge_examples --output " + base + "_merged " + base + "_s2 " +
+                            base + "_s1 2>/dev/null";
+  ASSERT_EQ(std::system(merge.c_str()), 0);
+  const auto bytes = [](const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  EXPECT_EQ(bytes(base + "_merged/stamps.bin"), bytes(base + "_one/stamps.bin"));
+  EXPECT_EQ(bytes(base + "_merged/manifest.json"), bytes(base + "_one/manifest.json"));
+  // A shard of another scene, or the same shard twice, is refused and nothing is written.
+  scene_file::SceneDescription other = tiny();
+  other.stamp.resolution = 8;
+  acquisition::SceneAcquisition(other).acquireSet({plan[1]}, base + "_other");
+  for (const std::string& second : {base + "_other", base + "_s1"}) {
+    std::filesystem::remove_all(base + "_merged");
+    const std::string refused = std::string(DE_TOOL_DIR) + "/de_merge_examples --output " + base + "_merged " + base + "_s1 " +
+                                second + " 2>/dev/null";
+    EXPECT_NE(std::system(refused.c_str()), 0) << second;
+    EXPECT_FALSE(std::filesystem::exists(base + "_merged"));
+  }
+  for (const char* d : {"_one", "_s1", "_s2", "_merged", "_other"}) std::filesystem::remove_all(base + d);
+}
