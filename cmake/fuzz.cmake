@@ -10,6 +10,9 @@ endif()
 find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 find_package(OpenCV REQUIRED COMPONENTS core)
 find_package(PCL REQUIRED COMPONENTS common io)
+find_package(VTK REQUIRED COMPONENTS CommonCore CommonDataModel FiltersCore ImagingGeneral IOLegacy IOXML)
+find_package(ZLIB REQUIRED)
+find_package(yaml-cpp REQUIRED)
 
 # -O1 -g whatever the build type, and assertions stay on (-UNDEBUG: Eigen's index checks;
 # _GLIBCXX_ASSERTIONS: bounds-checked std::vector / std::string): a failed assertion is a finding too.
@@ -17,10 +20,12 @@ find_package(PCL REQUIRED COMPONENTS common io)
 set(DE_FUZZ_SANITIZERS -fsanitize=address,undefined -fno-sanitize-recover=all)
 set(DE_FUZZ_FLAGS -O1 -g -fno-omit-frame-pointer -UNDEBUG -D_GLIBCXX_ASSERTIONS ${DE_FUZZ_SANITIZERS} -Wall -Wextra)
 
-# The loaders and what they use: mesh/ (OBJ, PLY, TetGen, point-cloud layout; PCL only for writing), hermite/ + examples/ (example
-# sets), the plan CSV and the MD2 reader.
+# The loaders and what they use: mesh/ (OBJ, PLY, OFF, STL, TetGen, gmsh, VTK, MD2, point-cloud layout; PCL only
+# for writing), hermite/ + examples/ + scene_file/ (example sets and their provenance, scene files) and the
+# plan CSV.
 file(GLOB DE_FUZZ_CORE_SOURCES CONFIGURE_DEPENDS
-  ${PROJECT_SOURCE_DIR}/src/mesh/*.cpp ${PROJECT_SOURCE_DIR}/src/hermite/*.cpp ${PROJECT_SOURCE_DIR}/src/examples/*.cpp)
+  ${PROJECT_SOURCE_DIR}/src/mesh/*.cpp ${PROJECT_SOURCE_DIR}/src/hermite/*.cpp ${PROJECT_SOURCE_DIR}/src/examples/*.cpp
+  ${PROJECT_SOURCE_DIR}/src/scene_file/*.cpp)
 list(APPEND DE_FUZZ_CORE_SOURCES
   ${PROJECT_SOURCE_DIR}/src/acquisition/plan_io.cpp)
 
@@ -29,7 +34,10 @@ target_compile_options(de_fuzz_core PRIVATE ${DE_FUZZ_FLAGS} -fsanitize=fuzzer-n
 target_include_directories(de_fuzz_core PUBLIC ${PROJECT_SOURCE_DIR}/include)
 target_include_directories(de_fuzz_core SYSTEM PRIVATE ${PCL_INCLUDE_DIRS})
 target_compile_definitions(de_fuzz_core PRIVATE ${PCL_DEFINITIONS})
-target_link_libraries(de_fuzz_core PUBLIC Eigen3::Eigen ${OpenCV_LIBS} PRIVATE ${PCL_LIBRARIES})
+target_compile_definitions(de_fuzz_core PRIVATE CGAL_USE_ZLIB DE_GENERATED_SCENE_DIR="" DE_INSTALL_SCENE_DIR=""
+  DE_SOURCE_SCENE_DIR="${PROJECT_SOURCE_DIR}/config/scenes")
+target_link_libraries(de_fuzz_core PUBLIC Eigen3::Eigen ${OpenCV_LIBS} PRIVATE ${PCL_LIBRARIES} VTK::CommonCore
+  VTK::CommonDataModel VTK::FiltersCore VTK::ImagingGeneral VTK::IOLegacy VTK::IOXML ZLIB::ZLIB yaml-cpp)
 target_link_options(de_fuzz_core INTERFACE ${DE_FUZZ_SANITIZERS})
 
 # Writes the seeds that are cheaper to generate than to keep in git (an example set, clouds, a tiny MD2).

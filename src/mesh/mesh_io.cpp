@@ -1,6 +1,5 @@
 #include "deformation_enrichment/mesh/mesh_io.hpp"
 
-#include <CGAL/IO/OFF.h>
 #include <CGAL/IO/STL.h>
 #include <CGAL/Simple_cartesian.h>
 #include <pcl/PolygonMesh.h>
@@ -21,6 +20,7 @@
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/obj_reader.hpp"
+#include "deformation_enrichment/mesh/off_reader.hpp"
 #include "deformation_enrichment/mesh/ply_reader.hpp"
 #include "deformation_enrichment/mesh/polygon_triangulation.hpp"
 
@@ -71,30 +71,24 @@ std::string stopPosition(std::istringstream& parsed, const std::string& bytes, b
   return "line " + std::to_string(1 + std::count(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(stop), '\n'));
 }
 
-/// CGAL's OFF or STL polygon-soup reader on the whole of `in`.
-TriangleMesh readPolygonSoup(std::istream& in, SurfaceFormat format, const std::string& name) {
+/// CGAL's STL polygon-soup reader (ASCII or binary) on the whole of `in`.
+TriangleMesh readStl(std::istream& in, const std::string& name) {
   const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
   if (in.bad()) throw IoError("mesh file '" + name + "' cannot be read");
   std::istringstream parsed(bytes, std::ios::in | std::ios::binary);
   std::vector<CgalPoint> points;
   std::vector<std::vector<std::size_t>> polygons;
-  const bool binaryStl = format == SurfaceFormat::Stl && bytes.compare(0, 5, "solid") != 0;
+  const bool binary = bytes.compare(0, 5, "solid") != 0;
+  std::vector<std::array<std::size_t, 3>> triangles;
   bool ok = false;
   try {
-    if (format == SurfaceFormat::Off) {
-      ok = CGAL::IO::read_OFF(parsed, points, polygons, CGAL::parameters::verbose(false));
-    } else {
-      std::vector<std::array<std::size_t, 3>> triangles;
-      ok = CGAL::IO::read_STL(parsed, points, triangles, CGAL::parameters::verbose(false));
-      for (const auto& t : triangles) polygons.emplace_back(t.begin(), t.end());
-    }
+    ok = CGAL::IO::read_STL(parsed, points, triangles, CGAL::parameters::verbose(false));
   } catch (const std::bad_alloc&) {
     throw IoError("mesh file '" + name + "': the counts in its header do not fit in memory");
   }
-  const char* what = format == SurfaceFormat::Off ? "OFF" : "STL";
+  for (const auto& t : triangles) polygons.emplace_back(t.begin(), t.end());
   if (!ok)
-    throw IoError("mesh file '" + name + "' is not valid " + what + " (CGAL's reader stopped at " +
-                  stopPosition(parsed, bytes, binaryStl) + ")");
+    throw IoError("mesh file '" + name + "' is not valid STL (CGAL's reader stopped at " + stopPosition(parsed, bytes, binary) + ")");
   Eigen::Matrix3Xd vertices(3, static_cast<Eigen::Index>(points.size()));
   for (size_t v = 0; v < points.size(); ++v)
     vertices.col(static_cast<Eigen::Index>(v)) << points[v].x(), points[v].y(), points[v].z();
@@ -117,7 +111,8 @@ SurfaceFormat surfaceFormatOf(const std::string& path) {
 TriangleMesh readTriangleMesh(std::istream& in, SurfaceFormat format, const std::string& name) {
   if (format == SurfaceFormat::Obj) return readObj(in, name);
   if (format == SurfaceFormat::Ply) return readPly(in, name);
-  return readPolygonSoup(in, format, name);
+  if (format == SurfaceFormat::Off) return readOff(in, name);
+  return readStl(in, name);
 }
 
 TriangleMesh readTriangleMesh(const std::string& path) {

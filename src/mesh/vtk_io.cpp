@@ -10,19 +10,21 @@
 #include <vtkPoints.h>
 #include <vtkSmartPointer.h>
 #include <vtkUnstructuredGrid.h>
-#include <vtkUnstructuredGridReader.h>
 #include <vtkUnstructuredGridWriter.h>
 #include <vtkXMLUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
+#include <algorithm>
 #include <cctype>
 #include <climits>
 #include <fstream>
 #include <iterator>
 #include <mutex>
+#include <sstream>
 
 #include "deformation_enrichment/error.hpp"
 #include "tet_collector.hpp"
+#include "vtk_legacy_reader.hpp"
 
 namespace deformation_enrichment::mesh {
 namespace {
@@ -103,25 +105,38 @@ std::string cellTypeName(int type) {
   return text;
 }
 
-VolumeMeshFile fromGrid(vtkUnstructuredGrid& grid, const std::string& name) {
+/// The points and cells of a grid VTK's XML reader produced.
+detail::VtkCells cellsOf(vtkUnstructuredGrid& grid) {
+  detail::VtkCells cells;
   const vtkIdType pointCount = grid.GetNumberOfPoints();
-  Eigen::Matrix3Xd vertices(3, pointCount);
-  for (vtkIdType p = 0; p < pointCount; ++p) grid.GetPoint(p, vertices.col(p).data());
-  detail::TetCollector tets(name, "cell");
+  cells.points.resize(3, pointCount);
+  for (vtkIdType p = 0; p < pointCount; ++p) grid.GetPoint(p, cells.points.col(p).data());
   vtkNew<vtkIdList> ids;
   for (vtkIdType c = 0; c < grid.GetNumberOfCells(); ++c) {
-    const int type = grid.GetCellType(c);
+    cells.types.push_back(grid.GetCellType(c));
+    grid.GetCellPoints(c, ids);
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k) cells.connectivity.push_back(ids->GetId(k));
+    cells.offsets.push_back(static_cast<long>(cells.connectivity.size()));
+  }
+  return cells;
+}
+
+VolumeMeshFile fromCells(detail::VtkCells cells, const std::string& name) {
+  detail::TetCollector tets(name, "cell");
+  for (std::size_t c = 0; c < cells.types.size(); ++c) {
+    const int type = cells.types[c];
     if (!isTet(type)) {
       tets.skip(cellTypeName(type));
       continue;
     }
-    grid.GetCellPoints(c, ids);
-    if (ids->GetNumberOfIds() < 4) tets.fail(c, "tetrahedron has " + std::to_string(ids->GetNumberOfIds()) + " points");
-    tets.add({ids->GetId(0), ids->GetId(1), ids->GetId(2), ids->GetId(3)}, 0, c);
+    const long* corners = cells.connectivity.data() + cells.offsets[c];
+    const long count = cells.offsets[c + 1] - cells.offsets[c];
+    if (count < 4) tets.fail(static_cast<long>(c), "tetrahedron has " + std::to_string(count) + " points");
+    tets.add({corners[0], corners[1], corners[2], corners[3]}, 0, static_cast<long>(c));
   }
-  std::vector<long> nodeIds(static_cast<size_t>(pointCount));
-  for (vtkIdType p = 0; p < pointCount; ++p) nodeIds[static_cast<size_t>(p)] = p;
-  return tets.finish(std::move(vertices), std::move(nodeIds));
+  std::vector<long> nodeIds(static_cast<size_t>(cells.points.cols()));
+  for (std::size_t p = 0; p < nodeIds.size(); ++p) nodeIds[p] = static_cast<long>(p);
+  return tets.finish(std::move(cells.points), std::move(nodeIds));
 }
 
 bool isXml(const std::string& path) {
@@ -138,25 +153,20 @@ VolumeMeshFile readVtk(std::istream& in, bool xml, const std::string& name) {
   if (in.bad()) throw IoError("VTK file '" + name + "' cannot be read");
   if (bytes.empty()) throw IoError("VTK file '" + name + "' is empty");
   if (bytes.size() > static_cast<size_t>(INT_MAX)) throw IoError("VTK file '" + name + "' is larger than VTK reads from memory");
-  VtkProblems problems;
-  vtkNew<vtkUnstructuredGridReader> legacy;
-  vtkNew<vtkXMLUnstructuredGridReader> xmlReader;
-  vtkUnstructuredGrid* grid = nullptr;
+  detail::VtkCells cells;
   if (xml) {
-    xmlReader->ReadFromInputStringOn();
-    xmlReader->SetInputString(bytes);
-    xmlReader->Update();
-    grid = xmlReader->GetOutput();
+    VtkProblems problems;
+    vtkNew<vtkXMLUnstructuredGridReader> reader;
+    reader->ReadFromInputStringOn();
+    reader->SetInputString(bytes);
+    reader->Update();
+    problems.check("VTK file '" + name + "'");
+    if (reader->GetOutput()) cells = cellsOf(*reader->GetOutput());
   } else {
-    legacy->ReadFromInputStringOn();
-    legacy->SetBinaryInputString(bytes.data(), static_cast<int>(bytes.size()));
-    legacy->Update();
-    grid = legacy->GetOutput();
+    cells = detail::readVtkLegacy(bytes, name);
   }
-  // VTK's legacy reader only warns about data shorter than its header says: any warning is an error here.
-  problems.check("VTK file '" + name + "'");
-  if (!grid || grid->GetNumberOfPoints() == 0) throw IoError("VTK file '" + name + "' has no points");
-  return fromGrid(*grid, name);
+  if (cells.points.cols() == 0) throw IoError("VTK file '" + name + "' has no points");
+  return fromCells(std::move(cells), name);
 }
 
 VolumeMeshFile readVtk(const std::string& path) {

@@ -11,6 +11,7 @@
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/triangle_mesh.hpp"
+#include "deformation_enrichment/mesh/volume_mesh_io.hpp"
 
 // An accepted input whose result breaks the loader's contract is a finding: abort, so libFuzzer saves it.
 #define DE_FUZZ_CHECK(condition)                                                            \
@@ -27,6 +28,15 @@ namespace deformation_enrichment::fuzz {
 inline void checkTriangleMesh(const mesh::TriangleMesh& m) {
   DE_FUZZ_CHECK(m.numVertices() > 0 && m.numTriangles() > 0 && m.vertices.allFinite());
   DE_FUZZ_CHECK(m.triangles.minCoeff() >= 0 && m.triangles.maxCoeff() < m.numVertices());
+}
+
+/// What every volume mesh a reader accepts satisfies: positively oriented tets over finite nodes, one region
+/// and one file id per tet and node.
+inline void checkVolumeMesh(const mesh::VolumeMeshFile& f) {
+  mesh::validate(f.mesh);  // throws InvalidInputError (not caught by the harness: a finding) when broken
+  DE_FUZZ_CHECK(f.region.size() == f.mesh.numTets());
+  DE_FUZZ_CHECK(static_cast<Eigen::Index>(f.nodeIds.size()) == f.mesh.numVertices());
+  DE_FUZZ_CHECK(f.report.reorientedTets >= 0 && f.report.reorientedTets <= f.mesh.numTets());
 }
 
 /// The OBJ / PLY harnesses: `read(stream, name)` on the input's bytes; IoError is a rejection.

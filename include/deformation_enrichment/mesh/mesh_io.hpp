@@ -1,7 +1,7 @@
 #pragma once
-// Triangle-mesh file I/O. OBJ and PLY (ASCII/binary) are read by the core's own readers (obj_reader.hpp,
-// ply_reader.hpp: PCL's crash or abort on malformed files), OFF and STL (ASCII/binary) by CGAL's polygon-soup
-// readers; writing uses PCL. Polygons with more than three corners are split into triangle fans; vertices
+// Triangle-mesh file I/O. OBJ, PLY (ASCII/binary) and ASCII OFF are read by the core's own readers
+// (obj_reader.hpp, ply_reader.hpp, off_reader.hpp: PCL's and CGAL's crash or read out of bounds on
+// malformed files), STL (ASCII/binary) by CGAL's polygon-soup reader; writing uses PCL. Polygons with more than three corners are split into triangle fans; vertices
 // keep their file order (STL stores corners per triangle: CGAL merges identical ones in order of first
 // use). Files without faces, with out-of-range indices or non-finite positions are rejected with an IoError
 // that names the file and the problem. Duplicate vertices and zero-area triangles are kept: inspectSurface
