@@ -47,7 +47,8 @@ void checkOptions(const ContactEnricherOptions& o) {
 ContactEnricher::ContactEnricher(mesh::TriangleMesh restSurface, const ContactEnricherOptions& options)
     : options_(options),
       rest_(std::move(restSurface)),
-      mapper_((checkOptions(options), mesh::validate(rest_), rest_.vertices), options.rimBand, mesh::vertexNormals(rest_)) {
+      mapper_((checkOptions(options), mesh::validate(rest_), rest_.vertices), options.rimBand, mesh::vertexNormals(rest_),
+              rest_.triangles) {
   restNormals_ = mesh::vertexNormals(rest_);
   vertexTriangles_.assign(static_cast<std::size_t>(rest_.vertices.cols()), {});
   for (Eigen::Index f = 0; f < rest_.triangles.cols(); ++f)

@@ -45,21 +45,57 @@ cv::Mat blendExampleStamps(const std::vector<examples::Example>& examples, const
   return blendStamps(stamps, weights);
 }
 
+namespace {
+
+using Matches = std::vector<std::pair<Eigen::Index, double>>;
+
+// Keeps, in their order, the matches reached from the one nearest the centre (ties: the lower vertex id)
+// over edges with both ends in the ball. `slot` has one entry per vertex, -1 on entry and on exit; while
+// walking it holds k for the unreached match k and -2 - k once reached. Work and touched memory are the
+// ball's vertices and their one-rings, never O(n).
+void keepReachedThroughSurface(Matches& matches, const mesh::VertexAdjacency& surface, std::vector<int>& slot,
+                               std::vector<int>& queue) {
+  if (matches.empty()) return;
+  std::size_t seed = 0;
+  for (std::size_t k = 1; k < matches.size(); ++k)
+    if (matches[k].second < matches[seed].second || (matches[k].second == matches[seed].second && matches[k].first < matches[seed].first))
+      seed = k;
+  for (std::size_t k = 0; k < matches.size(); ++k) slot[static_cast<std::size_t>(matches[k].first)] = static_cast<int>(k);
+  queue.assign(1, static_cast<int>(matches[seed].first));
+  slot[static_cast<std::size_t>(queue[0])] = -2 - static_cast<int>(seed);
+  for (std::size_t head = 0; head < queue.size(); ++head)
+    for (const int* u = surface.begin(queue[head]); u != surface.end(queue[head]); ++u)
+      if (int& s = slot[static_cast<std::size_t>(*u)]; s >= 0) {
+        s = -2 - s;
+        queue.push_back(*u);
+      }
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < matches.size(); ++k) {
+    int& s = slot[static_cast<std::size_t>(matches[k].first)];
+    if (s <= -2) matches[kept++] = matches[k];
+    s = -1;
+  }
+  matches.resize(kept);
+}
+
+}  // namespace
+
 // nanoflann over the rest vertices (column-major 3 x n, the adaptor keeps a reference to rest_).
 struct StampMapper::KdTree {
   using Tree = nanoflann::KDTreeEigenMatrixAdaptor<Eigen::Matrix3Xd, 3, nanoflann::metric_L2_Simple, false>;
-  using Matches = std::vector<std::pair<Eigen::Index, double>>;
   explicit KdTree(const Eigen::Matrix3Xd& points) : tree(3, std::cref(points), 16) {}
 
-  /// Rest vertices within the ball. A contact stays on the same rest point for many frames (the tool
-  /// holds the tissue it touches), so the last few balls are kept and reused on an exact match.
-  const Matches& ball(const Eigen::Vector3d& centre, double squaredRadius) {
+  /// Rest vertices within the ball, restricted to those reached through `surface` unless it is empty. A
+  /// contact stays on the same rest point for many frames (the tool holds the tissue it touches), so the
+  /// last few (filtered) balls are kept and reused on an exact match.
+  const Matches& ball(const Eigen::Vector3d& centre, double squaredRadius, const mesh::VertexAdjacency& surface) {
     for (const Ball& b : recent)
       if (b.valid && b.centre == centre && b.squaredRadius == squaredRadius) return b.matches;
     Ball& b = recent[next];
     next = (next + 1) % recent.size();
     b.matches.clear();
     tree.index->radiusSearch(centre.data(), squaredRadius, b.matches, nanoflann::SearchParams(32, 0.0f, false));
+    if (surface.numVertices() != 0) keepReachedThroughSurface(b.matches, surface, slot, queue);
     b.centre = centre;
     b.squaredRadius = squaredRadius;
     b.valid = true;
@@ -75,9 +111,11 @@ struct StampMapper::KdTree {
   Tree tree;
   std::array<Ball, 4> recent;  // a few tools at once
   std::size_t next = 0;
+  std::vector<int> slot, queue;  // scratch of keepReachedThroughSurface (slot: one per vertex, given triangles)
 };
 
-StampMapper::StampMapper(Eigen::Matrix3Xd restVertices, double rimBand, Eigen::Matrix3Xd restNormals)
+StampMapper::StampMapper(Eigen::Matrix3Xd restVertices, double rimBand, Eigen::Matrix3Xd restNormals,
+                         const Eigen::Matrix3Xi& restTriangles)
     : rest_(std::move(restVertices)), rimBand_(rimBand), normals_(std::move(restNormals)) {
   if (rest_.cols() == 0) throw InvalidInputError("StampMapper: the rest surface has no vertices");
   if (normals_.cols() != 0 && normals_.cols() != rest_.cols())
@@ -85,7 +123,9 @@ StampMapper::StampMapper(Eigen::Matrix3Xd restVertices, double rimBand, Eigen::M
   if (!normals_.allFinite()) throw InvalidInputError("StampMapper: rest normals are not finite");
   if (!rest_.allFinite()) throw InvalidInputError("StampMapper: rest vertices are not finite");
   if (!(rimBand >= 0.0 && rimBand < 1.0)) throw InvalidInputError("StampMapper: rim band must lie in [0, 1)");
+  if (restTriangles.cols() != 0) adjacency_ = mesh::vertexAdjacency(restTriangles, rest_.cols());
   index_ = std::make_unique<KdTree>(rest_);
+  if (adjacency_.numVertices() != 0) index_->slot.assign(static_cast<std::size_t>(rest_.cols()), -1);
   sum_ = Eigen::Matrix3Xd::Zero(3, rest_.cols());
   weightSum_ = Eigen::VectorXd::Zero(rest_.cols());
 }
@@ -116,7 +156,7 @@ void StampMapper::map(const std::vector<ContactStamp>& contacts, SurfaceEnrichme
   touched_.clear();
   for (const ContactStamp& contact : contacts) {
     const Eigen::Matrix3d RB = contact.rotation * contact.frame;
-    for (const auto& [vertex, squaredDistance] : index_->ball(contact.contact, contact.radius * contact.radius)) {
+    for (const auto& [vertex, squaredDistance] : index_->ball(contact.contact, contact.radius * contact.radius, adjacency_)) {
       const double a = rimWeight(std::sqrt(squaredDistance) / contact.radius);
       if (a == 0.0) continue;
       if (normals_.cols() != 0 && normals_.col(vertex).dot(contact.frame.col(2)) < 0.0) continue;  // far side

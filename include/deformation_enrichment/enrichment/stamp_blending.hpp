@@ -12,13 +12,16 @@
 // they overlap more than that, so two coinciding contacts give one stamp, not a doubled one. Every term is
 // continuous in x and vanishes at the rims, so e is continuous across stamp boundaries. Vertices outside
 // every stamp radius are not touched at all (not returned, their state untouched bit for bit). Given rest
-// normals, back-facing vertices (n . b_z < 0) inside a ball are not touched either.
+// triangles, a stamp reaches only the vertices of its ball connected to the contact through the surface
+// (edges with both ends in the ball), so it does not bleed across a narrow cut or through a thin wall; given
+// rest normals, back-facing vertices (n . b_z < 0) among those are not touched either.
 #include <Eigen/Core>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <vector>
 
 #include "deformation_enrichment/examples/example.hpp"
+#include "deformation_enrichment/mesh/vertex_adjacency.hpp"
 
 namespace deformation_enrichment::enrichment {
 
@@ -51,9 +54,12 @@ class StampMapper {
 public:
   /// `restVertices`: rest-state surface positions. rimBand in [0, 1). `restNormals` (optional, 3 x n or
   /// empty): vertices whose rest normal points away from the contact's b_z (n . b_z < 0, the far side
-  /// of a thin part inside the ball) are skipped. Throws InvalidInputError for no vertices, NaN, a band
-  /// outside [0, 1) or normals of the wrong size.
-  explicit StampMapper(Eigen::Matrix3Xd restVertices, double rimBand = 0.2, Eigen::Matrix3Xd restNormals = Eigen::Matrix3Xd());
+  /// of a thin part inside the ball) are skipped. `restTriangles` (optional, 3 x T or empty): a stamp
+  /// reaches only the part of its ball connected through triangle edges, both ends in the ball, to the ball
+  /// vertex nearest the contact (empty: the whole ball, e.g. for a point cloud). Throws InvalidInputError
+  /// for no vertices, NaN, a band outside [0, 1), normals of the wrong size or triangle indices out of range.
+  explicit StampMapper(Eigen::Matrix3Xd restVertices, double rimBand = 0.2, Eigen::Matrix3Xd restNormals = Eigen::Matrix3Xd(),
+                       const Eigen::Matrix3Xi& restTriangles = Eigen::Matrix3Xi());
   ~StampMapper();
   StampMapper(StampMapper&&) noexcept;
   StampMapper& operator=(StampMapper&&) noexcept;
@@ -78,6 +84,7 @@ private:
   Eigen::Matrix3Xd rest_;
   double rimBand_;
   Eigen::Matrix3Xd normals_;  // empty: no facing test
+  mesh::VertexAdjacency adjacency_;  // no vertices: no surface filter (the whole ball)
   std::unique_ptr<KdTree> index_;
   Eigen::Matrix3Xd sum_;           // scratch: sum_c a_c e_c per vertex
   Eigen::VectorXd weightSum_;      // scratch: sum_c a_c per vertex

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <vector>
 
 #include "deformation_enrichment/enrichment/stamp.hpp"
 #include "deformation_enrichment/enrichment/stamp_blending.hpp"
@@ -50,6 +51,50 @@ Eigen::Matrix3Xd denseEnrichment(en::StampMapper& mapper, const std::vector<en::
   Eigen::Matrix3Xd dense = Eigen::Matrix3Xd::Zero(3, mapper.size());
   for (std::size_t k = 0; k < e.vertices.size(); ++k) dense.col(e.vertices[k]) = e.displacements.col(static_cast<Eigen::Index>(k));
   return dense;
+}
+
+// Two triangles per cell of an n x n vertex grid (ids offset + j n + k), counter-clockwise from +z.
+Eigen::Matrix3Xi gridTriangles(int n, int offset = 0) {
+  Eigen::Matrix3Xi t(3, 2 * (n - 1) * (n - 1));
+  Eigen::Index f = 0;
+  for (int j = 0; j + 1 < n; ++j)
+    for (int k = 0; k + 1 < n; ++k) {
+      const int a = offset + j * n + k, b = a + 1, c = a + n + 1, d = a + n;
+      t.col(f++) = Eigen::Vector3i(a, b, c);
+      t.col(f++) = Eigen::Vector3i(a, c, d);
+    }
+  return t;
+}
+
+// e as the mapper computed it before surface reach, written plainly: every vertex of the 3D ball (the
+// squared distance summed as nanoflann's L2_Simple does, its test `< R^2`), rim weight, facing test.
+Eigen::Matrix3Xd wholeBallReference(const en::StampMapper& mapper, const Eigen::Matrix3Xd& normals,
+                                    const std::vector<en::ContactStamp>& contacts, std::vector<int>& touched) {
+  const Eigen::Matrix3Xd& rest = mapper.restVertices();
+  Eigen::Matrix3Xd sum = Eigen::Matrix3Xd::Zero(3, rest.cols());
+  Eigen::VectorXd weight = Eigen::VectorXd::Zero(rest.cols());
+  for (const en::ContactStamp& c : contacts) {
+    const Eigen::Matrix3d RB = c.rotation * c.frame;
+    for (Eigen::Index v = 0; v < rest.cols(); ++v) {
+      double d2 = 0.0;
+      for (int i = 0; i < 3; ++i) d2 += (c.contact[i] - rest(i, v)) * (c.contact[i] - rest(i, v));
+      // No vertex near the sphere: the result must not hinge on round-off in the distance.
+      EXPECT_GT(std::abs(d2 - c.radius * c.radius), 1e-9 * c.radius * c.radius) << v;
+      if (!(d2 < c.radius * c.radius)) continue;
+      const double a = mapper.rimWeight(std::sqrt(d2) / c.radius);
+      if (a == 0.0 || (normals.cols() != 0 && normals.col(v).dot(c.frame.col(2)) < 0.0)) continue;
+      const Eigen::Vector3d x = rest.col(v) - c.contact;
+      sum.col(v) += a * (RB * en::sampleStamp(c.stamp, c.radius, c.frame.col(0).dot(x), c.frame.col(1).dot(x)));
+      weight[v] += a;
+    }
+  }
+  touched.clear();
+  for (Eigen::Index v = 0; v < rest.cols(); ++v)
+    if (weight[v] != 0.0) {
+      touched.push_back(static_cast<int>(v));
+      sum.col(v) /= std::max(1.0, weight[v]);
+    }
+  return sum;
 }
 
 }  // namespace
@@ -220,4 +265,134 @@ TEST(StampBlending, BadInputThrows) {
   EXPECT_THROW(mapper.map({c}, e), de::InvalidInputError);
   Eigen::Matrix3Xd wrong(3, 2);
   EXPECT_THROW(mapper.apply(e, wrong), de::InvalidInputError);
+}
+
+// Surface reach: given the rest triangles, a stamp reaches the part of its ball connected to the contact
+// through edges inside the ball, not whatever the 3D ball holds.
+namespace {
+constexpr double kHalf = 0.03, kSpacing = 0.001, kRadius = 0.02;
+constexpr int kGrid = 61;  // vertices per grid row, 2 kHalf / kSpacing + 1
+
+std::vector<en::ContactStamp> nearSideContacts() {
+  // Off the grid nodes (no vertex near a sphere); the first 3.7 mm from the cut below, the second 8.7 mm.
+  std::vector<en::ContactStamp> contacts = {contactAt(Eigen::Vector3d(0.0003, 0.0002, 0.0), 0.4, kRadius, 0.0),
+                                            contactAt(Eigen::Vector3d(-0.0047, 0.0031, 0.0), -0.7, kRadius, 1.5)};
+  // Tilted b_z: the facing test has work to do against the normals of flatGridNormals.
+  contacts[1].frame = Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitX()).toRotationMatrix() * contacts[1].frame;
+  return contacts;
+}
+
+// Unit normals that wobble with x (the test only needs some to face away from a tilted b_z).
+Eigen::Matrix3Xd flatGridNormals(const Eigen::Matrix3Xd& rest) {
+  Eigen::Matrix3Xd n(3, rest.cols());
+  for (Eigen::Index v = 0; v < rest.cols(); ++v) n.col(v) = Eigen::Vector3d(0.0, 3.0 * std::sin(400.0 * rest(0, v)), 1.0).normalized();
+  return n;
+}
+
+bool sameBits(const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return std::memcmp(a.data(), b.data(), sizeof(a)) == 0; }
+}  // namespace
+
+TEST(StampSurfaceReach, UncutSurfaceIsBitIdenticalToTheWholeBall) {
+  const Eigen::Matrix3Xd rest = flatGrid(kHalf, kSpacing);
+  ASSERT_EQ(rest.cols(), kGrid * kGrid);
+  const Eigen::Matrix3Xd normals = flatGridNormals(rest);
+  const std::vector<en::ContactStamp> contacts = nearSideContacts();
+  en::StampMapper surface(rest, 0.2, normals, gridTriangles(kGrid));
+  en::StampMapper ball(rest, 0.2, normals);
+  std::vector<int> referenceIds;
+  const Eigen::Matrix3Xd reference = wholeBallReference(surface, normals, contacts, referenceIds);
+  for (int pass = 0; pass < 2; ++pass) {  // the second pass reads the cached (filtered) balls
+    en::SurfaceEnrichment e, plain;
+    surface.map(contacts, e);
+    ball.map(contacts, plain);
+    ASSERT_EQ(e.vertices, referenceIds);
+    ASSERT_EQ(plain.vertices, referenceIds);
+    for (std::size_t k = 0; k < e.vertices.size(); ++k) {
+      const auto col = static_cast<Eigen::Index>(k);
+      EXPECT_TRUE(sameBits(e.displacements.col(col), reference.col(e.vertices[k]))) << e.vertices[k];
+      EXPECT_TRUE(sameBits(e.displacements.col(col), plain.displacements.col(col))) << e.vertices[k];
+    }
+  }
+  EXPECT_GT(referenceIds.size(), 1400u);  // both stamps are there (pi (R / h)^2 = 1257 each, union 1487)
+  std::vector<int> unfacedIds;
+  wholeBallReference(surface, Eigen::Matrix3Xd(), contacts, unfacedIds);
+  EXPECT_GT(unfacedIds.size(), referenceIds.size() + 20);  // and the facing test removed some (36)
+}
+
+TEST(StampSurfaceReach, StampDoesNotCrossACut) {
+  // A slit along the grid column x = 4 mm for |y| < 25 mm: its vertices are duplicated, the copies taking
+  // the cells on the +x side; the tips (|y| = 25 mm) stay shared, outside the 2 cm balls, so the surface is
+  // one piece but no path inside a ball crosses the slit.
+  const int cutColumn = 34, tipRow = 55;  // x = -30 + 34 mm; rows 6..54 have |y| < 25 mm
+  const Eigen::Matrix3Xd grid = flatGrid(kHalf, kSpacing);
+  std::vector<int> copyOf(grid.cols(), -1);
+  Eigen::Matrix3Xd rest(3, grid.cols() + 2 * tipRow - kGrid);
+  rest.leftCols(grid.cols()) = grid;
+  Eigen::Index next = grid.cols();
+  for (int j = kGrid - tipRow; j < tipRow; ++j) {
+    copyOf[j * kGrid + cutColumn] = static_cast<int>(next);
+    rest.col(next++) = grid.col(j * kGrid + cutColumn);
+  }
+  ASSERT_EQ(next, rest.cols());
+  Eigen::Matrix3Xi triangles = gridTriangles(kGrid);
+  for (Eigen::Index f = 0; f < triangles.cols(); ++f) {
+    const bool plusSide = triangles.col(f).unaryExpr([](int v) { return v % kGrid; }).minCoeff() == cutColumn;  // cell x in [4, 5] mm
+    for (int k = 0; k < 3 && plusSide; ++k)
+      if (copyOf[triangles(k, f)] >= 0) triangles(k, f) = copyOf[triangles(k, f)];
+  }
+  const Eigen::Matrix3Xd normals = flatGridNormals(rest);
+  const std::vector<en::ContactStamp> contacts = nearSideContacts();
+  en::StampMapper cut(rest, 0.2, normals, triangles);
+  en::StampMapper uncut(grid, 0.2, normals.leftCols(grid.cols()), gridTriangles(kGrid));
+  en::SurfaceEnrichment e, whole;
+  uncut.map(contacts, whole);
+  std::vector<int> nearSide;
+  bool wholeCrosses = false;
+  for (int v : whole.vertices) {
+    if (v % kGrid <= cutColumn) nearSide.push_back(v);
+    wholeCrosses = wholeCrosses || v % kGrid > cutColumn;
+  }
+  EXPECT_TRUE(wholeCrosses);  // without the cut the stamps reach past x = 4 mm
+  for (int pass = 0; pass < 2; ++pass) {
+    cut.map(contacts, e);
+    ASSERT_EQ(e.vertices, nearSide);  // nothing on the far lip (copies or beyond), all of the near side
+    std::size_t w = 0;
+    for (std::size_t k = 0; k < e.vertices.size(); ++k) {
+      while (whole.vertices[w] != e.vertices[k]) ++w;
+      EXPECT_TRUE(sameBits(e.displacements.col(static_cast<Eigen::Index>(k)), whole.displacements.col(static_cast<Eigen::Index>(w))));
+    }
+  }
+}
+
+TEST(StampSurfaceReach, StampDoesNotGoThroughAThinWall) {
+  // A sheet folded back on itself 2 mm above (joined by a strip at x = 30 mm, outside the ball), the
+  // normals left out: the facing test cannot help, only the surface path can.
+  const Eigen::Matrix3Xd lower = flatGrid(kHalf, kSpacing);
+  Eigen::Matrix3Xd upper = lower;
+  upper.row(2).setConstant(0.002);
+  const int n = static_cast<int>(lower.cols());
+  Eigen::Matrix3Xd rest(3, 2 * n);
+  rest << lower, upper;
+  Eigen::Matrix3Xi strip(3, 2 * (kGrid - 1));
+  for (int j = 0; j + 1 < kGrid; ++j) {
+    const int a = j * kGrid + kGrid - 1, b = a + kGrid;
+    strip.col(2 * j) = Eigen::Vector3i(a, n + a, n + b);
+    strip.col(2 * j + 1) = Eigen::Vector3i(a, n + b, b);
+  }
+  Eigen::Matrix3Xi triangles(3, 2 * gridTriangles(kGrid).cols() + strip.cols());
+  triangles << gridTriangles(kGrid), gridTriangles(kGrid, n).colwise().reverse(), strip;
+  const std::vector<en::ContactStamp> contacts = {nearSideContacts()[0]};
+  en::StampMapper ball(rest, 0.2);
+  en::StampMapper surface(rest, 0.2, Eigen::Matrix3Xd(), triangles);
+  en::SurfaceEnrichment plain, e;
+  ball.map(contacts, plain);
+  surface.map(contacts, e);
+  ASSERT_GT(plain.vertices.back(), n);  // the 3D ball holds the upper sheet
+  ASSERT_FALSE(e.vertices.empty());
+  EXPECT_LT(e.vertices.back(), n);  // the surface path does not reach it
+  for (std::size_t k = 0; k < e.vertices.size(); ++k) {  // on the lower sheet both agree
+    EXPECT_EQ(e.vertices[k], plain.vertices[k]);
+    EXPECT_TRUE(sameBits(e.displacements.col(static_cast<Eigen::Index>(k)), plain.displacements.col(static_cast<Eigen::Index>(k))));
+  }
+  EXPECT_THROW((en::StampMapper{rest, 0.2, Eigen::Matrix3Xd(), Eigen::Matrix3Xi((strip.array() + 2 * n).matrix())}), de::InvalidInputError);
 }
