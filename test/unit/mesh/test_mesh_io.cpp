@@ -149,6 +149,24 @@ TEST(MeshIo, CorruptOffAndStlNameFileAndPosition) {
   test::expectIoError(readOff("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n"), {"bad.off", "line 6"});
   test::expectIoError(readOff("OFF\n3 1 0\n0 0 0\n1 0 x\n0 1 0\n3 0 1 2\n"), {"bad.off", "line 4"});
   test::expectIoError(readOff("OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n"), {"bad.off", "no triangles"});
+  // Found by fuzz_off_stl in CGAL's scanner (memory blow-up, casts of out-of-range doubles, reads past a
+  // COFF vertex line): each is a message now.
+  test::expectIoError(readOff("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n888888888 0 1 2\n"), {"bad.off", "line 6", "corner count"});
+  test::expectIoError(readOff("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3.2e37 0 1 2\n"), {"bad.off", "line 6", "corner count"});
+  test::expectIoError(readOff("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 -4 2\n"), {"bad.off", "line 6", "vertex index"});
+  test::expectIoError(readOff("COFF\n3 4 0\n0\n"), {"bad.off", "line 3", "vertex coordinate"});
+  test::expectIoError(readOff("OFF\n99999999999 1 0\n"), {"bad.off", "ends before vertex"});
+  test::expectIoError(readOff("OFF BINARY\n"), {"bad.off", "binary OFF"});
+  test::expectIoError(readOff("nOFF\n3\n"), {"bad.off", "nOFF"});
+  // Variants read as CGAL reads them: counts on the keyword line, colours and comments ignored, 4OFF divided.
+  for (const std::string text : {"OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+                                 "# c\nCOFF\n3 1 0\n0 0 0 1 0 0\n1 0 0 0 1 0 1\n0 1 0 .5 .5 .5\n3 0 1 2 255 0 0 # red\n",
+                                 "4OFF\n3 1 0\n0 0 0 2\n2 0 0 2\n0 2 0 2\n3 0 1 2\n"}) {
+    std::istringstream in(text);
+    const mesh::TriangleMesh m = mesh::readTriangleMesh(in, mesh::SurfaceFormat::Off, "ok.off");
+    ASSERT_EQ(m.numTriangles(), 1) << text;
+    EXPECT_EQ(m.vertices.col(1), Eigen::Vector3d(1, 0, 0)) << text;
+  }
   std::string truncated = binaryStl(kTetFacets);
   truncated.resize(truncated.size() - 30);
   test::expectIoError(

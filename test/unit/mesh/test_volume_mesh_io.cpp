@@ -192,7 +192,13 @@ TEST_F(VolumeMeshIo, CorruptVtkFilesNameFileAndProblem) {
       mesh::readVtk(in, false, "bad.vtk");
     };
   };
-  test::expectIoError(readLegacy(legacy + "0 0 0 1 0 0 0 1 0\n"), {"bad.vtk", "mismatch"});  // 3 of 4 points
+  test::expectIoError(readLegacy(legacy + "0 0 0 1 0 0 0 1 0\n"), {"bad.vtk", "POINTS", "12 values declared"});  // 3 of 4 points
+  // Found by fuzz_vtk in VTK 9.1's legacy reader (reads past CELLS, null dereference on a missing size).
+  const std::string points = legacy + "0 0 0 1 0 0 0 1 0 0 0 1\n";
+  test::expectIoError(readLegacy(points + "CELLS 1 5\n46841 0 1 2 3\nCELL_TYPES 1\n10\n"), {"bad.vtk", "cell 0 declares 46841 points"});
+  test::expectIoError(readLegacy(points + "CELLS 1\n0.5 0 1 2 3\n"), {"bad.vtk", "CELLS", "not a count", "line 8"});
+  test::expectIoError(readLegacy(points + "CELLS 1 5\n4 0 1 2 3\nCELL_TYPES 2\n10\n10\n"), {"bad.vtk", "1 CELLS but 2 CELL_TYPES"});
+  test::expectIoError(readLegacy(legacy.substr(0, legacy.size() - 16) + "POINTS 99999999 double\n0 0 0\n"), {"bad.vtk", "more than the rest"});
   test::expectIoError(readLegacy(legacy + "0 0 0 1 0 0 0 1 0 0 0 1\nCELLS 1 5\n4 0 1 2 9\nCELL_TYPES 1\n10\n"),
                 {"bad.vtk: cell 0:", "out of range"});
   test::expectIoError(readLegacy("# vtk DataFile Version 2.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 1 double\n0 0 0\n"),
