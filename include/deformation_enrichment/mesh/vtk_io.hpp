@@ -1,7 +1,8 @@
 #pragma once
-// VTK unstructured grids ([VTK], "VTK File Formats") through VTK's own readers and writers: legacy .vtk
-// (vtkUnstructuredGridReader, ASCII or binary, format versions up to 5.1) and XML .vtu
-// (vtkXMLUnstructuredGridReader, ASCII, binary or appended data, compressed or not). Point i is node i;
+// VTK unstructured grids ([VTK], "VTK File Formats"): XML .vtu read by vtkXMLUnstructuredGridReader (ASCII,
+// binary or appended data, compressed or not); legacy .vtk (ASCII or binary, format versions 2.0-5.1) read
+// by the core's checked reader (src/mesh/vtk_legacy_reader: VTK 9.1's reads past corrupt arrays); both
+// written by VTK's writers. Point i is node i;
 // tetrahedra (linear, quadratic and Lagrange: corners first) are kept, other cells counted by type.
 #include <iosfwd>
 #include <string>
