@@ -84,7 +84,8 @@ public:
   // Every key of the map must have been read.
   void finish() const {
     for (const auto& entry : node_) {
-      const std::string key = entry.first.as<std::string>();
+      if (!entry.first.IsScalar()) fail(entry.first, "has a key that is not a plain name");  // e.g. {a: 1, {b: 2}}
+      const std::string key = entry.first.Scalar();
       if (!used_.count(key)) fail(entry.first, "is not a known key", key);
     }
   }
