@@ -163,11 +163,13 @@ Procedural readProcedural(MapReader reader) {
   } else {
     reader.fail(reader.node("shape"), "must be slab, pillow or meniscus", "shape");
   }
+  constexpr int kMostCells = 1000;  // per axis: 1e9 cells is far past what a scene can solve
   const auto cells = [&](const char* key, Eigen::Vector3i& value) {
     if (!reader.has(key)) return;
     const std::vector<double> c = reader.numbers(key, 3);
     for (int k = 0; k < 3; ++k) {
-      if (c[k] < 1 || c[k] != std::floor(c[k])) reader.fail(reader.node(key), "must hold integers >= 1", key);
+      if (!(c[k] >= 1 && c[k] <= kMostCells) || c[k] != std::floor(c[k]))
+        reader.fail(reader.node(key), "must hold integers in [1, " + std::to_string(kMostCells) + "]", key);
       value[k] = static_cast<int>(c[k]);
     }
   };

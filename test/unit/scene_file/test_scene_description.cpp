@@ -145,3 +145,16 @@ TEST(SceneDescription, BadKeysTypesRangesAndFilesAreNamed) {
   EXPECT_NE(errorOf<IoError>(dir, "name: [unclosed\n").find("not a valid YAML scene"), std::string::npos);
   EXPECT_THROW(readSceneFile((dir.path / "absent.yaml").string()), IoError);
 }
+
+TEST(SceneDescription, ProceduralCellCountsAreBounded) {  // 1e52 cells was cast to int (found by fuzz_scene)
+  const std::string pillow = "name: p\nprocedural: {shape: pillow, coarse_cells: [10, 8, 2]}\nmaterial: {young: 1.0e4, poisson: 0.45}\n";
+  EXPECT_TRUE(scene_file::parseSceneText(pillow, "p.yaml").procedural);
+  for (const std::string cells : {"[1e52, 8, 2]", "[0, 8, 2]", "[1001, 8, 2]", "[2.5, 8, 2]"}) {
+    try {
+      scene_file::parseSceneText(replaced(pillow, "[10, 8, 2]", cells), "p.yaml");
+      ADD_FAILURE() << cells << " was accepted";
+    } catch (const InvalidInputError& e) {
+      EXPECT_NE(std::string(e.what()).find("'procedural.coarse_cells' must hold integers in [1, 1000]"), std::string::npos) << e.what();
+    }
+  }
+}
