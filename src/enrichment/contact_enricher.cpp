@@ -1,6 +1,7 @@
 #include "deformation_enrichment/enrichment/contact_enricher.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -11,6 +12,8 @@
 #include "deformation_enrichment/descriptors/moment_window.hpp"
 #include "deformation_enrichment/descriptors/stamping_frame.hpp"
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/mesh/closest_point_on_triangle.hpp"
+#include "deformation_enrichment/smooth_ramp.hpp"
 
 namespace deformation_enrichment::enrichment {
 namespace {
@@ -40,6 +43,10 @@ void checkOptions(const ContactEnricherOptions& o) {
     throw InvalidInputError("contact enricher: sample spacing must be >= 0 and finite");
   if (!(o.stampGain >= 0.0) || !std::isfinite(o.stampGain))
     throw InvalidInputError("contact enricher: stamp gain must be >= 0 and finite");
+  if (!(o.maxMagnitudeRatio > 0.0) || !(o.maxWeight > 0.0))
+    throw InvalidInputError("contact enricher: the magnitude-ratio and weight bounds must be positive (infinity: unbounded)");
+  if (!(o.minConfidence >= 0.0 && o.minConfidence <= 1.0))
+    throw InvalidInputError("contact enricher: minimum confidence must be in [0, 1]");
 }
 
 }  // namespace
@@ -91,6 +98,11 @@ void ContactEnricher::setStampGain(double gain) {
   options_.stampGain = gain;
 }
 
+void ContactEnricher::setMinConfidence(double floor) {
+  if (!(floor >= 0.0 && floor <= 1.0)) throw InvalidInputError("contact enricher: minimum confidence must be in [0, 1]");
+  options_.minConfidence = floor;
+}
+
 void ContactEnricher::setKernelWidths(double sigmaRho, double sigmaU) {
   if (!blender_) throw InvalidInputError("contact enricher: no example set loaded to set kernel widths for");
   if (!std::isfinite(sigmaRho) || !std::isfinite(sigmaU)) throw InvalidInputError("contact enricher: kernel widths must be finite");
@@ -129,6 +141,41 @@ Eigen::Vector3d ContactEnricher::currentNormal(const Eigen::Matrix3Xd& current, 
   return length > 0.0 ? Eigen::Vector3d(n / length) : Eigen::Vector3d(restNormals_.col(vertex));
 }
 
+void ContactEnricher::locate(const Eigen::Matrix3Xd& positions, int vertex, const Eigen::Vector3d& point,
+                             ContactDescription& d) const {
+  // The nearest surface point lies on a triangle around the nearest vertex, or on one next to those: search
+  // the triangles of the vertex's one-ring (a few dozen), not the mesh.
+  double best = std::numeric_limits<double>::infinity();
+  d.corners = Eigen::Vector3i::Constant(vertex);  // a vertex no triangle uses stays alone
+  d.barycentric = Eigen::Vector3d::UnitX();
+  for (int f : vertexTriangles_[static_cast<std::size_t>(vertex)])
+    for (int k = 0; k < 3; ++k)
+      for (int g : vertexTriangles_[static_cast<std::size_t>(rest_.triangles(k, f))]) {
+        const Eigen::Vector3i t = rest_.triangles.col(g);
+        const Eigen::Vector3d a = positions.col(t(0)), b = positions.col(t(1)), c = positions.col(t(2));
+        const Eigen::Vector3d closest = mesh::closestPointOnTriangle(point, a, b, c);
+        const double distance = (closest - point).squaredNorm();
+        if (distance < best) {
+          best = distance;
+          d.corners = t;
+          d.barycentric = mesh::barycentricOnTriangle(closest, a, b, c);
+        }
+      }
+  Eigen::Index corner = 0;
+  d.barycentric.maxCoeff(&corner);
+  d.vertex = d.corners(corner);
+}
+
+const hermite::MomentList& ContactEnricher::siteMoments(int vertex) const {
+  auto& site = siteCache_[static_cast<std::size_t>(vertex)];
+  if (!site) {  // rho depends on the rest shape only: once per rest vertex
+    const auto& opt = options_.descriptors;
+    const descriptors::Window window = descriptors::gatherWindow(siteEvaluator_->sampling(), rest_.vertices.col(vertex), opt.window);
+    site = descriptors::densityMoments(window, 0, opt.siteOrder);
+  }
+  return *site;
+}
+
 ContactDescription ContactEnricher::describe(const Eigen::Matrix3Xd& current, const Contact& contact) const {
   checkState(current);
   return describeValidState(current, contact);
@@ -139,33 +186,67 @@ ContactDescription ContactEnricher::describeValidState(const Eigen::Matrix3Xd& c
   if (contact.normal && !contact.normal->allFinite()) throw InvalidInputError("contact enricher: non-finite contact normal");
   ContactDescription d;
   if (contact.restState) {
-    d.vertex = siteEvaluator_->nearestSurfaceVertex(contact.point);
+    locate(rest_.vertices, siteEvaluator_->nearestSurfaceVertex(contact.point), contact.point, d);
     d.p = contact.point;
   } else {
-    (current.colwise() - contact.point).colwise().squaredNorm().minCoeff(&d.vertex);
-    d.p = rest_.vertices.col(d.vertex);
+    Eigen::Index nearest = 0;
+    (current.colwise() - contact.point).colwise().squaredNorm().minCoeff(&nearest);
+    locate(current, static_cast<int>(nearest), contact.point, d);
+    d.p = rest_.vertices(Eigen::all, d.corners) * d.barycentric;
   }
+  // Everything that depends on where the contact is follows it continuously: rho and both normals are
+  // interpolated over its triangle.
+  hermite::MomentList site = siteMoments(d.corners(0));
+  site.values() *= d.barycentric(0);
+  Eigen::Vector3d restNormal = Eigen::Vector3d::Zero(), deformedNormal = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 3; ++k) {
+    if (k > 0) site.values() += d.barycentric(k) * siteMoments(d.corners(k)).values();
+    restNormal += d.barycentric(k) * restNormals_.col(d.corners(k));
+    deformedNormal += d.barycentric(k) * currentNormal(current, d.corners(k));
+  }
+  if (!(restNormal.norm() > 1e-12)) restNormal = restNormals_.col(d.vertex);  // opposite normals across a sharp edge
+  if (!(deformedNormal.norm() > 1e-12)) deformedNormal = currentNormal(current, d.vertex);
+  restNormal.normalize();
+  deformedNormal.normalize();
   const auto& opt = options_.descriptors;
-  auto& site = siteCache_[static_cast<std::size_t>(d.vertex)];
-  if (!site) {  // rho depends on the rest shape only: once per rest vertex
-    const descriptors::Window window = descriptors::gatherWindow(siteEvaluator_->sampling(), rest_.vertices.col(d.vertex), opt.window);
-    site = descriptors::densityMoments(window, 0, opt.siteOrder);
-  }
   const descriptors::Window& window = surfaceWindow(d.p);
   if (window.empty()) throw InvalidInputError("contact enricher: no surface vertex within the window of the contact");
-  const Eigen::Vector3d restNormal = restNormals_.col(d.vertex);
-  const Eigen::Vector3d deformedNormal = currentNormal(current, d.vertex);
   // eq. (10)-(11) in kinematics' surface mode: the normals complete F where the samples are coplanar.
   const descriptors::DeformationDescriptor deformation = descriptors::deformationDescriptor(
       window, rest_.vertices, current, opt.deformationOrder, &restNormal, &deformedNormal, opt.mls);
   const Eigen::Vector3d normal = contact.normal ? *contact.normal : restNormal;
-  const descriptors::StampingFrame frame = descriptors::stampingFrame(normal, *site, &deformation.mu, opt.frameTolerance);
+  const descriptors::StampingFrame frame = descriptors::stampingFrame(
+      normal, site, &deformation.mu, opt.frameTolerance, contact.previousFrameAxis ? &*contact.previousFrameAxis : nullptr);
   d.B = frame.B;
   d.R = deformation.R;
   d.frameRule = frame.rule;
-  d.rho = site->transformed(d.B.transpose());  // world -> frame B (Appendix B)
+  d.rho = site.transformed(d.B.transpose());  // world -> frame B (Appendix B)
   d.mu = deformation.mu.transformed(d.B.transpose());
   return d;
+}
+
+void ContactEnricher::blendContact(const Contact& contact, ContactOutcome& outcome, ContactStamp& stamp) {
+  blender_->blend(outcome.description.rho, outcome.description.mu, blendScratch_);  // eq. 15 -> RBF -> eq. 16
+  outcome.weights = blendScratch_.rbf.weights;
+  outcome.confidence = blendScratch_.rbf.confidence;
+  outcome.muNorm = outcome.description.mu.values().norm();
+  // Psi = sum_i w~_i (|mu| / |mu[i]|) Psi[i] when magnitude-aware (examples without deformation, |mu[i]| = 0,
+  // contribute nothing), with w~_i and the ratio clamped (options).
+  Eigen::VectorXd effective = outcome.weights.cwiseMax(-options_.maxWeight).cwiseMin(options_.maxWeight);
+  if (options_.magnitudeAware)
+    for (Eigen::Index i = 0; i < effective.size(); ++i)
+      effective(i) = muNorms_(i) > 0.0 ? effective(i) * std::min(outcome.muNorm / muNorms_(i), options_.maxMagnitudeRatio) : 0.0;
+  outcome.detailScale = smoothRamp(outcome.confidence, options_.minConfidence);
+  if (contact.releasedMagnitude > 0.0 && !options_.magnitudeAware)
+    outcome.detailScale *= std::min(1.0, outcome.muNorm / contact.releasedMagnitude);
+  if (effective != outcome.weights) blendScratch_.stamp = blendStamps(stamps_, effective);
+  stamp.contact = outcome.description.p;
+  stamp.frame = outcome.description.B;
+  stamp.rotation = outcome.description.R;
+  stamp.radius = blender_->stampRadius();
+  const double scale = options_.stampGain * outcome.detailScale;
+  if (scale == 1.0) blendScratch_.stamp.copyTo(stamp.stamp);
+  else blendScratch_.stamp.convertTo(stamp.stamp, -1, scale);
 }
 
 void ContactEnricher::enrich(const Eigen::Matrix3Xd& current, const std::vector<Contact>& contacts, EnrichmentResult& out) {
@@ -185,23 +266,7 @@ void ContactEnricher::enrich(const Eigen::Matrix3Xd& current, const std::vector<
     outcome.description = describeValidState(current, contacts[c]);  // the state was checked once above
     out.timings.descriptorSeconds += secondsSince(t0);
     t0 = Clock::now();
-    blender_->blend(outcome.description.rho, outcome.description.mu, blendScratch_);  // eq. 15 -> RBF -> eq. 16
-    outcome.weights = blendScratch_.rbf.weights;
-    outcome.confidence = blendScratch_.rbf.confidence;
-    ContactStamp& stamp = stampScratch_[c];
-    stamp.contact = outcome.description.p;
-    stamp.frame = outcome.description.B;
-    stamp.rotation = outcome.description.R;
-    stamp.radius = blender_->stampRadius();
-    if (options_.magnitudeAware) {
-      // Psi = sum_i w~_i (|mu| / |mu[i]|) Psi[i]; examples without deformation (|mu[i]| = 0) contribute nothing.
-      const double muNorm = outcome.description.mu.values().norm();
-      Eigen::VectorXd scaled = outcome.weights;
-      for (Eigen::Index i = 0; i < scaled.size(); ++i) scaled(i) = muNorms_(i) > 0.0 ? scaled(i) * muNorm / muNorms_(i) : 0.0;
-      blendScratch_.stamp = blendStamps(stamps_, scaled);
-    }
-    if (options_.stampGain == 1.0) blendScratch_.stamp.copyTo(stamp.stamp);
-    else blendScratch_.stamp.convertTo(stamp.stamp, -1, options_.stampGain);
+    blendContact(contacts[c], outcome, stampScratch_[c]);
     out.timings.blendSeconds += secondsSince(t0);
     out.contacts.push_back(std::move(outcome));
   }

@@ -1,5 +1,6 @@
 #include "deformation_enrichment/enrichment/example_blender.hpp"
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,13 @@ std::vector<int> siteGroups(const examples::ExampleSet& set) {
     if (group[i] < 0) group[i] = sites++;
   }
   return sites >= 2 ? group : std::vector<int>();
+}
+
+double medianNorm(const std::vector<hermite::MomentList>& moments) {
+  std::vector<double> norms;
+  for (const auto& m : moments) norms.push_back(hermite::norm(m));
+  std::nth_element(norms.begin(), norms.begin() + static_cast<long>(norms.size() / 2), norms.end());
+  return norms[norms.size() / 2];
 }
 
 }  // namespace
@@ -47,8 +55,9 @@ ExampleBlender::ExampleBlender(const examples::ExampleSet& set, const ExampleBle
         magnitudes.resize(size());
         for (Eigen::Index i = 0; i < size(); ++i) magnitudes[i] = mu[static_cast<std::size_t>(i)].values().norm();
       }
-      fit_ = fitKernelWidths(dissimilarities_, gram, defaultKernelWidthGrid(dissimilarities_, options.gridCount), lambda_,
-                             magnitudes, siteGroups(set));
+      fit_ = fitKernelWidths(dissimilarities_, gram,
+                             defaultKernelWidthGrid(dissimilarities_, options.gridCount, options.siteResolution * medianNorm(rho)),
+                             lambda_, magnitudes, siteGroups(set));
       widths_ = fit_->best;
       if (options.crossValidatedGain) gain_ = fit_->gain;
     }

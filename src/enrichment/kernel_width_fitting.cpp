@@ -96,8 +96,10 @@ Eigen::MatrixXd stampGramMatrix(const std::vector<cv::Mat>& stamps) {
   return flat.transpose() * flat;
 }
 
-KernelWidthGrid defaultKernelWidthGrid(const ExampleDissimilarities& d, int count) {
+KernelWidthGrid defaultKernelWidthGrid(const ExampleDissimilarities& d, int count, double sigmaRhoFloor) {
   if (count < 1) throw InvalidInputError("defaultKernelWidthGrid: count must be positive");
+  if (!(sigmaRhoFloor >= 0.0) || !std::isfinite(sigmaRhoFloor))
+    throw InvalidInputError("defaultKernelWidthGrid: the sigma_rho floor must be >= 0 and finite");
   std::vector<double> offDiagonal;
   for (Eigen::Index j = 0; j < d.dRho.cols(); ++j)
     for (Eigen::Index i = 0; i < j; ++i)
@@ -107,7 +109,8 @@ KernelWidthGrid defaultKernelWidthGrid(const ExampleDissimilarities& d, int coun
     std::nth_element(offDiagonal.begin(), offDiagonal.begin() + static_cast<long>(offDiagonal.size() / 2), offDiagonal.end());
     median = offDiagonal[offDiagonal.size() / 2];
   }
-  return {geometric(0.05 * median, 5.0 * median, count), geometric(0.02, 2.0, count)};
+  const double lo = std::max(0.05 * median, sigmaRhoFloor);
+  return {geometric(lo, std::max(5.0 * median, 100.0 * lo), count), geometric(0.02, 2.0, count)};
 }
 
 // Magnitude-aware prediction Psi^_k = sum_i x_i (m_k / m_i) Psi_i: with Phi_i = Psi_i / m_i its error is

@@ -1,5 +1,7 @@
 #include "deformation_enrichment/mesh/closest_point_on_triangle.hpp"
 
+#include <Eigen/Geometry>
+
 namespace deformation_enrichment::mesh {
 
 Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
@@ -22,6 +24,22 @@ Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Ve
   const double sum = va + vb + vc;
   if (!(sum > 0.0)) return a;  // degenerate (zero-area) triangle
   return a + ab * (vb / sum) + ac * (vc / sum);
+}
+
+Eigen::Vector3d barycentricOnTriangle(const Eigen::Vector3d& point, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                      const Eigen::Vector3d& c) {
+  const Eigen::Vector3d n = (b - a).cross(c - a);
+  const double area2 = n.squaredNorm();
+  if (area2 > 0.0) {
+    Eigen::Vector3d weights((b - point).cross(c - point).dot(n), (c - point).cross(a - point).dot(n),
+                            (a - point).cross(b - point).dot(n));
+    weights = weights.cwiseMax(0.0);
+    const double sum = weights.sum();
+    if (sum > 0.0) return weights / sum;
+  }
+  Eigen::Index corner = 0;
+  Eigen::Vector3d((a - point).norm(), (b - point).norm(), (c - point).norm()).minCoeff(&corner);
+  return Eigen::Vector3d::Unit(corner);
 }
 
 }  // namespace deformation_enrichment::mesh

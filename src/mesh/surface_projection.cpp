@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/mesh/closest_point_on_triangle.hpp"
 
 namespace deformation_enrichment::mesh {
 
@@ -57,20 +58,9 @@ SurfacePoint SurfaceProjector::project(const Eigen::Vector3d& query) const {
   const Eigen::Vector3i t = impl_->surface.triangles.col(s.triangle);
   const Eigen::Vector3d a = impl_->surface.vertices.col(t(0)), b = impl_->surface.vertices.col(t(1)),
                         c = impl_->surface.vertices.col(t(2));
-  // Barycentric coordinates from sub-triangle areas (the point lies on the triangle); a degenerate
-  // triangle falls back to its nearest corner.
+  s.barycentric = barycentricOnTriangle(s.point, a, b, c);
   const Eigen::Vector3d n = (b - a).cross(c - a);
   const double area2 = n.squaredNorm();
-  if (area2 > 0.0) {
-    s.barycentric = Eigen::Vector3d((b - s.point).cross(c - s.point).dot(n), (c - s.point).cross(a - s.point).dot(n),
-                                    (a - s.point).cross(b - s.point).dot(n)) / area2;
-    s.barycentric = s.barycentric.cwiseMax(0.0);
-    s.barycentric /= s.barycentric.sum();
-  } else {
-    Eigen::Index corner = 0;
-    Eigen::Vector3d((a - s.point).norm(), (b - s.point).norm(), (c - s.point).norm()).minCoeff(&corner);
-    s.barycentric = Eigen::Vector3d::Unit(corner);
-  }
   Eigen::Vector3d normal = s.barycentric(0) * impl_->normals.col(t(0)) + s.barycentric(1) * impl_->normals.col(t(1)) +
                            s.barycentric(2) * impl_->normals.col(t(2));
   if (!(normal.norm() > 1e-12)) normal = area2 > 0.0 ? n : Eigen::Vector3d::UnitZ();

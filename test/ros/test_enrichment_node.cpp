@@ -238,13 +238,32 @@ TEST_F(EnrichmentNodeTest, ExampleSetEnrichesOnlyAtTheContactSurvivesACorruptSet
   EXPECT_EQ(load.response.num_examples, 1u) << "the old set must stay active";
   touchAndCheck("after a corrupt set");
 
+  // Lift-off with the tissue still dented: the released site keeps its detail (issue 13) ...
   de::ToolContactArray lifted;
   lifted.header = header();
   contactsPub_.publish(lifted);
   ros::WallDuration(0.3).sleep();
   sensor_msgs::PointCloud2 state = cloudFromPositions(dented.cast<float>(), lifted.header);
   ASSERT_TRUE(roundTrip(state));
-  EXPECT_EQ(findEnriched(state.header.stamp)->data, state.data) << "detail must vanish when the tool lifts off";
+  const Eigen::Matrix3Xf in = de::ros_layer::positionsFromCloud(state);
+  const Eigen::Matrix3Xf out = de::ros_layer::positionsFromCloud(*findEnriched(state.header.stamp));
+  Eigen::Index centre = 0;
+  (rest_.vertices.colwise() - Eigen::Vector3d(0, 0, 0.02)).colwise().squaredNorm().minCoeff(&centre);
+  EXPECT_NEAR(out(2, centre) - in(2, centre), -0.001, 2e-4) << "the released tissue keeps its detail";
+  EXPECT_TRUE(out.allFinite());
+  EXPECT_TRUE(waitFor([&] {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& s : statuses_)
+      if (s->header.stamp == state.header.stamp && s->released_sites == 1u && s->tool_ids.empty()) return true;
+    return false;
+  }, 3.0)) << "status without the released site";
+  // ... and back at rest nothing is left.
+  sensor_msgs::PointCloud2 atRest = cloudFromPositions(rest_.vertices.cast<float>(), header());
+  ASSERT_TRUE(roundTrip(atRest));
+  EXPECT_EQ(findEnriched(atRest.header.stamp)->data, atRest.data) << "detail must vanish once the tissue is at rest";
+  sensor_msgs::PointCloud2 later = cloudFromPositions(rest_.vertices.cast<float>(), header());
+  ASSERT_TRUE(roundTrip(later));
+  EXPECT_EQ(findEnriched(later.header.stamp)->data, later.data);
 }
 
 TEST_F(EnrichmentNodeTest, TwoToolsWithOverlappingStampsGiveAContinuousSurface) {

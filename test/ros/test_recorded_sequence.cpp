@@ -2,7 +2,8 @@
 // Stable Neo-Hookean slab pressed and dragged by a tool, then released; 31 states at 10 Hz with contacts,
 // rosbag record + filter + lz4). Checks, against a real master: vertices outside every stamp radius are
 // bit-identical to the input; the example's detail appears at the contact; a corrupt example set is
-// rejected while the old one stays active; lift-off removes the detail; two tools give a continuous surface.
+// rejected while the old one stays active; after lift-off detail stays only at the released site; two tools
+// give a continuous surface.
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <rosbag/bag.h>
@@ -17,6 +18,7 @@
 #include "deformation_enrichment/ToolContactArray.h"
 #include "deformation_enrichment/enrichment/contact_enricher.hpp"
 #include "deformation_enrichment/examples/example_set_io.hpp"
+#include "deformation_enrichment/mesh/surface_projection.hpp"
 #include "deformation_enrichment/ros/conversions.hpp"
 #include "enrichment_node_fixture.hpp"
 
@@ -97,10 +99,14 @@ protected:
   }
 
   /// Rest position of the surface point under a contact (nearest current vertex, as the node maps it).
+  /// Where the node puts a contact: the nearest point of the current surface (CGAL's AABB tree here, an
+  /// independent search), mapped to the rest surface with its barycentric coordinates.
   Eigen::Vector3d restContact(const Frame& frame, const de::ToolContact& c) const {
-    Eigen::Index nearest = 0;
-    (frame.positions.colwise() - Eigen::Vector3d(c.position.x, c.position.y, c.position.z)).colwise().squaredNorm().minCoeff(&nearest);
-    return rest_.vertices.col(nearest);
+    de::mesh::TriangleMesh current = rest_;
+    current.vertices = frame.positions;
+    const de::mesh::SurfacePoint s =
+        de::mesh::SurfaceProjector(current).project(Eigen::Vector3d(c.position.x, c.position.y, c.position.z));
+    return rest_.vertices(Eigen::all, rest_.triangles.col(s.triangle)) * s.barycentric;
   }
 
   /// A one-example set described by the package's own pipeline at frame `at`: stamp kDetail inwards.
@@ -158,9 +164,11 @@ TEST_F(RecordedSequenceTest, EnrichesAtTheContactOnlyKeepsItsSetAndContinuity) {
   ASSERT_TRUE(load(good));
 
   // The whole recording: untouched vertices keep their bits; with a contact, detail appears under it;
-  // without one (before the press and after the lift-off) the output is the input.
+  // before the press the output is the input, and after the lift-off only the released site (the last
+  // contact's rest point) may carry detail.
   int withDetail = 0, withoutContact = 0;
   Eigen::Matrix3Xd deepestOutput;
+  std::vector<Eigen::Vector3d> released;
   for (std::size_t i = 0; i < frames_.size(); ++i) {
     const Frame& f = frames_[i];
     const Eigen::Matrix3Xd out = play(f);
@@ -168,6 +176,9 @@ TEST_F(RecordedSequenceTest, EnrichesAtTheContactOnlyKeepsItsSetAndContinuity) {
     const Eigen::Matrix3Xf in = f.positions.cast<float>(), got = out.cast<float>();
     std::vector<Eigen::Vector3d> centres;
     for (const auto& c : f.contacts.contacts) centres.push_back(restContact(f, c));
+    if (!centres.empty()) released = centres;
+    const bool touching = !centres.empty();
+    if (!touching) centres = released;
     double under = 0.0;
     for (Eigen::Index v = 0; v < in.cols(); ++v) {
       bool inside = false;
@@ -178,9 +189,11 @@ TEST_F(RecordedSequenceTest, EnrichesAtTheContactOnlyKeepsItsSetAndContinuity) {
       for (const auto& p : centres)
         if ((rest_.vertices.col(v) - p).norm() < 0.003) under = std::min(under, double(got(2, v) - in(2, v)));
     }
-    if (centres.empty()) {
+    if (!touching) {
       ++withoutContact;
-      EXPECT_EQ(got, in) << "frame " << i << " has no contact but was changed";
+      if (released.empty()) {
+        EXPECT_EQ(got, in) << "frame " << i << " is before any contact but was changed";
+      }
     } else if (under < -0.3 * kDetail) {
       ++withDetail;
     }
@@ -201,7 +214,9 @@ TEST_F(RecordedSequenceTest, EnrichesAtTheContactOnlyKeepsItsSetAndContinuity) {
   std::string message;
   EXPECT_FALSE(load(bad, &message));
   EXPECT_FALSE(message.empty());
-  EXPECT_EQ(play(frames_[at]), deepestOutput) << "the old set must stay active after a corrupt one";
+  // The same up to the stamping frame's memory of the stream since (previous b_x): micrometres, where another
+  // set or none would change the 1 mm of detail.
+  EXPECT_LT((play(frames_[at]) - deepestOutput).cwiseAbs().maxCoeff(), 1e-6) << "the old set must stay active after a corrupt one";
 
   // Two tools 8 mm apart: overlapping stamps neither add up nor make the surface rougher than one stamp.
   const auto edgeJump = [&](const Eigen::Matrix3Xd& e) {

@@ -24,9 +24,15 @@ struct StampingFrame {
 /// it comes from (|rho_0| + |rho_1| for rho, |mu| for the deformation).
 /// Deformation direction: the tangential part of (G + G^T) n with G the order-1 displacement moment
 /// (G_cj ~ d u_bar_c / d x_j): the direction in which the surface is sheared.
-/// Fixed choice: the world axis least aligned with b_z (lowest index on ties), projected on the tangent plane.
+/// With `previousAxis` (the previous frame's b_x of the same contact) the shear direction takes the sign
+/// that agrees with it: the sign of a nearly symmetric dent's shear is discretisation noise.
+/// Fixed choice: `previousAxis` (the previous frame's b_x of the same contact, so a stream's frame does not
+/// jump) projected on the tangent plane, else the world axis least aligned with b_z (lowest index on ties).
+/// Continuity: a rule takes over smoothly (smoothstep) while its direction's length goes from one to two
+/// tolerances, so b_x is a continuous function of the inputs; `rule` names the rule of largest weight.
 /// Throws InvalidInputError for a non-finite normal or moments.
 StampingFrame stampingFrame(const Eigen::Vector3d& normal, const hermite::MomentList& rho,
-                            const hermite::MomentList* mu = nullptr, double relativeTolerance = 1e-3);
+                            const hermite::MomentList* mu = nullptr, double relativeTolerance = 1e-3,
+                            const Eigen::Vector3d* previousAxis = nullptr);
 
 }  // namespace deformation_enrichment::descriptors

@@ -2,7 +2,7 @@
 // The run-time pipeline of [Seiler14 §5-§6] on one rest surface, shared by the ROS node, acquisition and
 // evaluation so that example descriptors and run-time descriptors are computed by the same code:
 //   per contact p: site descriptor rho (density moments of an interior sampling of the closed rest
-//   surface, cached per nearest rest vertex), deformation descriptor mu (MLS "surface samples" mode over
+//   surface, cached per rest vertex and interpolated over the contact's triangle), deformation descriptor mu (MLS "surface samples" mode over
 //   the surface vertices near p, rest vs current, completed by the rest/current normals), stamping frame
 //   B (normal, rho_1, then the deformation direction), then ExampleBlender (eq. 15 -> RBF -> eq. 16) and
 //   StampMapper (eq. 1, multi-contact rim rule).
@@ -32,20 +32,36 @@ struct ContactEnricherOptions {
   /// (eq. 14 compares directions only). false = the paper's pure correlation. Measured on held-out slab
   /// contacts: enriched / coarse RMS 0.49 with, 0.53 without (R = 2 cm, band 0.2); 0.34 vs 0.45 (band 0).
   bool magnitudeAware = true;
+  /// Bounds of the blend (issue 13: unbounded, a contact far outside the examples got weights of +-5 and
+  /// an unlimited magnitude scale): |mu| / |mu[i]| is clamped to maxMagnitudeRatio and every w~_i to
+  /// [-maxWeight, maxWeight]. Both are continuous, so a stream stays continuous.
+  double maxMagnitudeRatio = 2.0;
+  double maxWeight = 2.0;
+  /// Detail fades in with the blend's confidence (max eq. 15 weight): 0 below minConfidence, full from
+  /// 2 minConfidence on, smoothstep between (a ramp, not a step). 0 = never gated.
+  double minConfidence = 0.0;
 };
 
-/// One tool contact. `point` is a rest-state position when `restState`, otherwise a current-state position
-/// (mapped to the rest state through the nearest current surface vertex).
+/// One tool contact. `point` is a rest-state position when `restState`, otherwise a current-state position,
+/// mapped to the rest state through its nearest point on the current surface (barycentric on the triangle
+/// there, so a sliding contact moves continuously instead of snapping from vertex to vertex).
 struct Contact {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   bool restState = true;
-  std::optional<Eigen::Vector3d> normal;  ///< outward normal in rest axes; default: the rest vertex normal
+  std::optional<Eigen::Vector3d> normal;  ///< outward normal in rest axes; default: the interpolated rest normal
   int toolId = 0;
+  /// b_x of this contact's previous frame: the stamping frame's last resort, so it does not jump (a stream).
+  std::optional<Eigen::Vector3d> previousFrameAxis;
+  /// > 0: a released site (the tool lifted off) whose detail fades with |mu| / releasedMagnitude, the
+  /// deformation then. Magnitude-aware stamps fade by themselves and ignore it.
+  double releasedMagnitude = 0.0;
 };
 
 /// Descriptors of one contact, exactly what an example stores (rho, mu in frame B) plus what mapping needs.
 struct ContactDescription {
-  int vertex = -1;                                        ///< nearest rest surface vertex
+  int vertex = -1;                                        ///< the rest vertex of the contact's triangle nearest to it
+  Eigen::Vector3i corners = Eigen::Vector3i::Constant(-1);  ///< the triangle the contact lies on
+  Eigen::Vector3d barycentric = Eigen::Vector3d::Zero();  ///< of the contact on `corners` (>= 0, sum 1)
   Eigen::Vector3d p = Eigen::Vector3d::Zero();            ///< rest-state contact position
   Eigen::Matrix3d B = Eigen::Matrix3d::Identity();        ///< stamping frame (rest axes)
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();        ///< polar rotation of the MLS F (rest -> current)
@@ -59,6 +75,8 @@ struct ContactOutcome {
   ContactDescription description;
   Eigen::VectorXd weights;  ///< w~ per example (eq. 16)
   double confidence = 0.0;  ///< max eq. (15) weight
+  double muNorm = 0.0;      ///< |mu|: how strongly the tissue is deformed at the contact
+  double detailScale = 1.0; ///< confidence ramp times the fade of a released site (times the stamp gain)
 };
 
 struct EnrichmentTimings {
@@ -90,6 +108,8 @@ public:
   bool hasExamples() const { return blender_ != nullptr; }
   const ExampleBlender* blender() const { return blender_.get(); }
   void setStampGain(double gain);
+  /// options().minConfidence at run time; throws InvalidInputError outside [0, 1].
+  void setMinConfidence(double floor);
   /// Kernel widths of eq. (15) for the active set (run-time knob): a positive width replaces the current
   /// one, 0 or a negative one restores the width the set was loaded with (leave-one-out fitted, or given).
   /// Rebuilds the RBF interpolator, O(N^3) in the examples. Throws InvalidInputError without examples or
@@ -114,7 +134,14 @@ public:
 private:
   /// describe() for a state that passed checkState().
   ContactDescription describeValidState(const Eigen::Matrix3Xd& current, const Contact& contact) const;
+  /// Places the contact on the surface `positions` (rest or current): the nearest point among the triangles
+  /// around `vertex` (its nearest vertex), written to d.corners, d.barycentric and d.vertex.
+  void locate(const Eigen::Matrix3Xd& positions, int vertex, const Eigen::Vector3d& point, ContactDescription& d) const;
+  /// rho at a rest vertex (world axes), computed once per vertex.
+  const hermite::MomentList& siteMoments(int vertex) const;
   Eigen::Vector3d currentNormal(const Eigen::Matrix3Xd& current, int vertex) const;
+  /// Blends one described contact's stamp (eq. 15 -> RBF -> eq. 16, bounded and scaled) into `stamp`.
+  void blendContact(const Contact& contact, ContactOutcome& outcome, ContactStamp& stamp);
   /// The deformation descriptor's window at rest point p (cached, see recentWindows_).
   const descriptors::Window& surfaceWindow(const Eigen::Vector3d& p) const;
   void checkState(const Eigen::Matrix3Xd& current) const;

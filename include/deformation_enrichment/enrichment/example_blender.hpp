@@ -27,6 +27,12 @@ struct ExampleBlenderOptions {
   /// Scale w~ by the fit's cross-validated gain (KernelWidthFit::gain): a set whose examples do not predict
   /// each other fades its detail. Without a fit the gain is 1.
   bool crossValidatedGain = true;
+  /// Resolution of the site descriptor, relative to the median |rho[i]|: the fitted sigma_rho is at least
+  /// this (defaultKernelWidthGrid's floor). Sites whose rho differ by less are the same site up to
+  /// sampling noise (on a slab whose examples all sit on equivalent sites the unbounded fit chose
+  /// 3e-4 |rho| and a sliding contact's detail changed by 50 % per 0.25 mm; docs/design.md §4).
+  /// 0 = the paper's unbounded fit.
+  double siteResolution = 1e-2;
 };
 
 struct BlendResult {

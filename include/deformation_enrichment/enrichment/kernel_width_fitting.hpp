@@ -25,8 +25,10 @@ struct KernelWidthGrid {
 };
 
 /// Geometric grids: sigma_rho over [0.05, 5] x the median non-zero d_rho between examples (1 if all
-/// coincide), sigma_u over [0.02, 2] (d_u lies in [0, 2]); `count` values each.
-KernelWidthGrid defaultKernelWidthGrid(const ExampleDissimilarities& d, int count = 12);
+/// coincide), sigma_u over [0.02, 2] (d_u lies in [0, 2]); `count` values each. A positive `sigmaRhoFloor`
+/// makes the sigma_rho grid start there (and span at least a factor 100): site differences below the site
+/// descriptor's resolution are sampling noise, and a width at noise level makes the weights follow it.
+KernelWidthGrid defaultKernelWidthGrid(const ExampleDissimilarities& d, int count = 12, double sigmaRhoFloor = 0.0);
 
 /// Relative leave-one-out stamp error for one width pair (see above). Needs at least 2 examples and a
 /// non-zero stamp; throws InvalidInputError otherwise or for mismatched sizes. With `magnitudes` m_i (|mu[i]|,

@@ -23,7 +23,9 @@
 #include "deformation_enrichment/LoadExampleSet.h"
 #include "deformation_enrichment/SegmentSites.h"
 #include "deformation_enrichment/ToolContactArray.h"
+#include "deformation_enrichment/enrichment/contact_continuity.hpp"
 #include "deformation_enrichment/enrichment/contact_enricher.hpp"
+#include "deformation_enrichment/enrichment/temporal_filter.hpp"
 #include "deformation_enrichment/examples/example.hpp"
 #include "deformation_enrichment/mesh/triangle_mesh.hpp"
 #include "deformation_enrichment/ros/contact_tracker.hpp"
@@ -38,6 +40,8 @@ struct EnrichmentKnobs {
   double stampGain = 1.0;
   double sigmaRho = 0.0, sigmaU = 0.0;  ///< <= 0: the set's leave-one-out fitted width
   int hermiteOrder = 0;                 ///< 0: the order the set was built with
+  double minConfidence = 0.0;           ///< ContactEnricherOptions::minConfidence (0 = no gate)
+  double temporalSmoothing = 0.0;       ///< TemporalFilter time constant [s] (0 = off)
 };
 
 class EnrichmentNode {
@@ -66,8 +70,16 @@ private:
   void onReconfigure(EnrichmentConfig& config, uint32_t level);
   /// Reads ~tool_tip_link's collision geometry from robot_description (point tip without them).
   void loadToolTip();
-  /// Whether the state's data, the contacts and the configuration equal those of the last enriched state.
-  bool unchanged(const sensor_msgs::PointCloud2& message, const std::vector<TrackedContact>& active) const;
+  /// Whether the state's data, the contacts and the configuration equal those of the last enriched state
+  /// (never while the temporal filter runs: its output moves on every state).
+  bool unchanged(const sensor_msgs::PointCloud2& message, const std::vector<enrichment::Contact>& contacts) const;
+  /// The tools in contact as enricher contacts, each tool keeping its number for the node's lifetime.
+  std::vector<enrichment::Contact> touchingContacts(const std::vector<TrackedContact>& active);
+  /// Enriches `positions` for `contacts` (continuity, temporal filter) into `enrichedPositions`, `enriched`
+  /// and `status`; throws Error, leaving the continuity and filter memory of the last good state.
+  void enrichState(const sensor_msgs::PointCloud2ConstPtr& message, const Eigen::Matrix3Xf& positions,
+                   const std::vector<enrichment::Contact>& contacts, Eigen::Matrix3Xf& enrichedPositions,
+                   sensor_msgs::PointCloud2ConstPtr& enriched, EnrichmentStatus& status);
 
   void setRestMesh(mesh::TriangleMesh rest, const std::string& source);
   /// Logs (throttled per input and kind of problem) why an input was dropped, and counts it.
@@ -116,7 +128,12 @@ private:
   uint64_t configVersion_ = 0;  // bumped by every new enricher, set or knob value
   bool lastWasEnriched_ = false;
   uint64_t lastConfigVersion_ = 0;
-  std::vector<TrackedContact> lastContacts_;
+  std::vector<enrichment::Contact> lastContacts_;
+  // A stream that holds still: frames and released sites per tool, the optional temporal filter.
+  enrichment::ContactContinuity continuity_;
+  enrichment::TemporalFilter temporalFilter_;
+  std::map<std::string, int> toolNumbers_;  // tool id -> the enricher's tool number
+  ros::Time lastStateStamp_;
   EnrichmentStatus lastStatus_;
 
   // Statistics for diagnostics.

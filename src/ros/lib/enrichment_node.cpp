@@ -30,6 +30,16 @@ EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
   knobs_.sigmaRho = privateNh_.param("sigma_rho", 0.0);
   knobs_.sigmaU = privateNh_.param("sigma_u", 0.0);
   knobs_.hermiteOrder = privateNh_.param("hermite_order", 0);
+  knobs_.minConfidence = privateNh_.param("min_confidence", 0.0);
+  knobs_.temporalSmoothing = privateNh_.param("temporal_smoothing", 0.0);
+  enrichment::ContactContinuityOptions continuity;
+  continuity.followRelease = privateNh_.param("follow_release", true);
+  continuity.releaseFloor = privateNh_.param("release_floor", continuity.releaseFloor);
+  try {
+    continuity_ = enrichment::ContactContinuity(continuity);
+  } catch (const Error& e) {
+    ROS_ERROR("~release_floor rejected: %s (keeping %g)", e.what(), enrichment::ContactContinuityOptions().releaseFloor);
+  }
   loadToolTip();
   minRate_ = privateNh_.param("expected_rate_min", 1.0);
   maxRate_ = privateNh_.param("expected_rate_max", 1000.0);
@@ -118,7 +128,9 @@ void EnrichmentNode::setRestMesh(mesh::TriangleMesh rest, const std::string& sou
   rest_ = std::move(rest);
   ++restVersion_;
   ++configVersion_;
-  // A new topology invalidates states of the old one.
+  // A new topology invalidates states of the old one, and the tools' memory of it.
+  continuity_.reset();
+  temporalFilter_.reset();
   lastInput_.reset();
   lastEnriched_.reset();
   lastPositions_.resize(3, 0);
@@ -134,13 +146,18 @@ void EnrichmentNode::onRestMesh(const pcl_msgs::PolygonMeshConstPtr& message) {
   }
 }
 
-bool EnrichmentNode::unchanged(const sensor_msgs::PointCloud2& message, const std::vector<TrackedContact>& active) const {
+namespace {
+bool sameContact(const enrichment::Contact& a, const enrichment::Contact& b) {
+  return a.point == b.point && a.restState == b.restState && a.normal == b.normal && a.toolId == b.toolId &&
+         a.previousFrameAxis == b.previousFrameAxis && a.releasedMagnitude == b.releasedMagnitude;
+}
+}  // namespace
+
+bool EnrichmentNode::unchanged(const sensor_msgs::PointCloud2& message, const std::vector<enrichment::Contact>& contacts) const {
   if (!lastWasEnriched_ || !lastInput_ || lastConfigVersion_ != configVersion_) return false;
-  if (active.size() != lastContacts_.size()) return false;
-  for (std::size_t c = 0; c < active.size(); ++c)
-    if (active[c].toolId != lastContacts_[c].toolId || active[c].position != lastContacts_[c].position ||
-        active[c].normal != lastContacts_[c].normal)
-      return false;
+  if (temporalFilter_.timeConstant() > 0.0) return false;
+  if (contacts.size() != lastContacts_.size() || !std::equal(contacts.begin(), contacts.end(), lastContacts_.begin(), sameContact))
+    return false;
   const sensor_msgs::PointCloud2& last = *lastInput_;
   if (message.width != last.width || message.height != last.height || message.point_step != last.point_step ||
       message.is_bigendian != last.is_bigendian || message.fields != last.fields || message.data.size() != last.data.size())
@@ -170,9 +187,12 @@ void EnrichmentNode::onMeshState(const sensor_msgs::PointCloud2ConstPtr& message
   // (nodelet subscribers share the pointer). Otherwise only the touched vertices change.
   sensor_msgs::PointCloud2ConstPtr enriched = message;
   Eigen::Matrix3Xf enrichedPositions = positions;
-  const bool enrich = enricher_ && !active.empty();
+  // Tools in contact, then the sites released tools left deformed; a fading filter needs states too.
+  const std::vector<enrichment::Contact> contacts =
+      enricher_ ? continuity_.contactsFor(touchingContacts(active)) : std::vector<enrichment::Contact>();
+  const bool enrich = enricher_ && (!contacts.empty() || temporalFilter_.fading());
   bool enrichedHere = false;  // the enrichment ran (or was reused) without error
-  if (enrich && unchanged(*message, active)) {
+  if (enrich && unchanged(*message, contacts)) {
     // Same state, contacts, set and knobs as the last enriched state: republish its result, new header.
     if (lastEnriched_ != lastInput_) {
       auto copy = boost::make_shared<sensor_msgs::PointCloud2>(*lastEnriched_);
@@ -188,37 +208,7 @@ void EnrichmentNode::onMeshState(const sensor_msgs::PointCloud2ConstPtr& message
     enrichedHere = true;
   } else if (enrich) {
     try {
-      std::vector<enrichment::Contact> contacts;
-      for (size_t c = 0; c < active.size(); ++c) {
-        enrichment::Contact contact;
-        contact.point = active[c].position;
-        contact.restState = false;  // contacts live in the current (mesh-state) frame
-        contact.toolId = static_cast<int>(c);
-        contacts.push_back(contact);
-      }
-      const Eigen::Matrix3Xd current = positions.cast<double>();
-      enricher_->enrich(current, contacts, enrichment_);
-      const auto& touched = enrichment_.enrichment;
-      for (size_t k = 0; k < touched.vertices.size(); ++k)
-        enrichedPositions.col(touched.vertices[k]) += touched.displacements.col(static_cast<Eigen::Index>(k)).cast<float>();
-      if (!enrichedPositions.allFinite()) throw NumericalError("enrichment produced a non-finite position");
-      if (!touched.vertices.empty()) {
-        auto copy = boost::make_shared<sensor_msgs::PointCloud2>(*message);
-        writePositions(enrichedPositions, *copy);
-        enriched = copy;
-      }
-      status.vertices_touched = static_cast<uint32_t>(touched.vertices.size());
-      for (const auto& outcome : enrichment_.contacts) {
-        status.confidence = std::max(status.confidence, static_cast<float>(outcome.confidence));
-        for (Eigen::Index i = 0; i < outcome.weights.size(); ++i) {
-          if (std::abs(outcome.weights[i]) < 1e-3) continue;  // report the examples that matter
-          status.example_ids.push_back(static_cast<uint32_t>(i));
-          status.weights.push_back(static_cast<float>(outcome.weights[i]));
-        }
-      }
-      lastStatus_ = status;
-      lastContacts_ = active;
-      lastConfigVersion_ = configVersion_;
+      enrichState(message, positions, contacts, enrichedPositions, enriched, status);
       enrichedHere = true;
     } catch (const Error& e) {
       reject("contacts", std::string("enrichment skipped for this state: ") + e.what());
@@ -227,7 +217,10 @@ void EnrichmentNode::onMeshState(const sensor_msgs::PointCloud2ConstPtr& message
       status = EnrichmentStatus();
       status.header = message->header;
     }
+  } else {
+    temporalFilter_.reset();  // nothing enriched: a later contact starts the filter afresh
   }
+  lastStateStamp_ = message->header.stamp;
   lastWasEnriched_ = enrichedHere;
   lastInput_ = message;
   lastEnriched_ = enriched;
@@ -243,6 +236,54 @@ void EnrichmentNode::onMeshState(const sensor_msgs::PointCloud2ConstPtr& message
   status.compute_ms = static_cast<float>(lastComputeMs_);
   status.states_reused = statesReused_;
   statusPub_.publish(status);
+}
+
+std::vector<enrichment::Contact> EnrichmentNode::touchingContacts(const std::vector<TrackedContact>& active) {
+  std::vector<enrichment::Contact> contacts;
+  for (const TrackedContact& tracked : active) {
+    enrichment::Contact contact;
+    contact.point = tracked.position;
+    contact.restState = false;  // contacts live in the current (mesh-state) frame
+    const auto number = toolNumbers_.emplace(tracked.toolId, static_cast<int>(toolNumbers_.size())).first;
+    contact.toolId = number->second;
+    contacts.push_back(contact);
+  }
+  return contacts;
+}
+
+void EnrichmentNode::enrichState(const sensor_msgs::PointCloud2ConstPtr& message, const Eigen::Matrix3Xf& positions,
+                                 const std::vector<enrichment::Contact>& contacts, Eigen::Matrix3Xf& enrichedPositions,
+                                 sensor_msgs::PointCloud2ConstPtr& enriched, EnrichmentStatus& status) {
+  const Eigen::Matrix3Xd current = positions.cast<double>();
+  enricher_->enrich(current, contacts, enrichment_);
+  auto& touched = enrichment_.enrichment;
+  const double dt = lastStateStamp_.isZero() ? 0.0 : (message->header.stamp - lastStateStamp_).toSec();
+  temporalFilter_.filter(touched, dt, current.cols());  // a dt <= 0 (stamps going backwards) restarts it
+  for (size_t k = 0; k < touched.vertices.size(); ++k)
+    enrichedPositions.col(touched.vertices[k]) += touched.displacements.col(static_cast<Eigen::Index>(k)).cast<float>();
+  if (!enrichedPositions.allFinite()) {
+    temporalFilter_.reset();
+    throw NumericalError("enrichment produced a non-finite position");
+  }
+  continuity_.update(enrichment_);
+  if (!touched.vertices.empty()) {
+    auto copy = boost::make_shared<sensor_msgs::PointCloud2>(*message);
+    writePositions(enrichedPositions, *copy);
+    enriched = copy;
+  }
+  status.vertices_touched = static_cast<uint32_t>(touched.vertices.size());
+  status.released_sites = static_cast<uint32_t>(continuity_.releasedSites());
+  for (const auto& outcome : enrichment_.contacts) {
+    status.confidence = std::max(status.confidence, static_cast<float>(outcome.confidence));
+    for (Eigen::Index i = 0; i < outcome.weights.size(); ++i) {
+      if (std::abs(outcome.weights[i]) < 1e-3) continue;  // report the examples that matter
+      status.example_ids.push_back(static_cast<uint32_t>(i));
+      status.weights.push_back(static_cast<float>(outcome.weights[i]));
+    }
+  }
+  lastStatus_ = status;
+  lastContacts_ = contacts;
+  lastConfigVersion_ = configVersion_;
 }
 
 void EnrichmentNode::onContacts(const ToolContactArrayConstPtr& message) {

@@ -27,6 +27,7 @@ std::unique_ptr<enrichment::ContactEnricher> EnrichmentNode::makeEnricher(const 
   const int order = knobs.hermiteOrder > 0 ? std::min(knobs.hermiteOrder, built) : built;
   options.descriptors.deformationOrder = order;
   options.stampGain = knobs.stampGain;
+  options.minConfidence = knobs.minConfidence;
   auto enricher = std::make_unique<enrichment::ContactEnricher>(rest, options);
   // Truncated mu: the leave-one-out widths are fitted for the descriptors actually compared.
   enricher->setExamples(enrichment::withDeformationOrder(set, order));
@@ -89,7 +90,8 @@ bool EnrichmentNode::onLoadExampleSet(LoadExampleSet::Request& request, LoadExam
 }
 
 void EnrichmentNode::onReconfigure(EnrichmentConfig& config, uint32_t /*level*/) {
-  EnrichmentKnobs requested{config.stamp_gain, config.sigma_rho, config.sigma_u, config.hermite_order};
+  EnrichmentKnobs requested{config.stamp_gain,     config.sigma_rho,       config.sigma_u,
+                            config.hermite_order,  config.min_confidence,  config.temporal_smoothing};
   EnrichmentKnobs old;
   std::optional<examples::ExampleSet> set;
   int activeOrder = 0;
@@ -125,7 +127,9 @@ void EnrichmentNode::onReconfigure(EnrichmentConfig& config, uint32_t /*level*/)
     if (enricher_) {
       enricher_->setStampGain(requested.stampGain);
       enricher_->setKernelWidths(requested.sigmaRho, requested.sigmaU);  // O(N^3) in the examples: cheap
+      enricher_->setMinConfidence(requested.minConfidence);
     }
+    if (requested.temporalSmoothing != temporalFilter_.timeConstant()) temporalFilter_.setTimeConstant(requested.temporalSmoothing);
     knobs_ = requested;
   } catch (const Error& e) {
     ROS_ERROR("reconfiguration refused: %s (keeping stamp_gain %g, sigma_rho %g, sigma_u %g)", e.what(), old.stampGain,
@@ -133,7 +137,10 @@ void EnrichmentNode::onReconfigure(EnrichmentConfig& config, uint32_t /*level*/)
     if (enricher_) {
       enricher_->setStampGain(old.stampGain);
       enricher_->setKernelWidths(old.sigmaRho, old.sigmaU);
+      enricher_->setMinConfidence(old.minConfidence);
     }
+    knobs_.minConfidence = old.minConfidence;
+    config.min_confidence = old.minConfidence;
     knobs_.stampGain = old.stampGain;
     knobs_.sigmaRho = old.sigmaRho;
     knobs_.sigmaU = old.sigmaU;
