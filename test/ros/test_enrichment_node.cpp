@@ -1,6 +1,8 @@
 // Integration test of the enrichment node's ROS contract against a real master (run by rostest with the
 // node as a separate process or as a nodelet): outputs, headers, frames, and every bad-input case is
 // logged on /rosout and survived with the last good state kept.
+#include <geometry_msgs/TransformStamped.h>
+
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -118,6 +120,30 @@ TEST_F(EnrichmentNodeTest, ToolPoseNearTheSurfaceBecomesAContact) {
   ros::WallDuration(0.3).sleep();
   sensor_msgs::PointCloud2 state = goodState();
   state.header.stamp = pose.header.stamp;
+  ASSERT_TRUE(roundTrip(state));
+  EXPECT_TRUE(waitFor([&] {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& s : statuses_)
+      if (s->header.stamp == state.header.stamp && s->tool_ids == std::vector<std::string>{"tool_pose"}) return true;
+    return false;
+  }, 3.0));
+}
+
+TEST_F(EnrichmentNodeTest, ToolTransformOfOlderCrtkStacksBecomesAContact) {
+  // dVRK <= 2.0 and AMBF before 2022 publish measured_cp as a TransformStamped.
+  auto transformPub = nh_.advertise<geometry_msgs::TransformStamped>("tool_transform", 10);
+  ASSERT_TRUE(waitFor([&] { return transformPub.getNumSubscribers() > 0; }, 5.0));
+  geometry_msgs::TransformStamped transform;
+  transform.header = header();
+  transform.child_frame_id = "PSM1_tool_tip";
+  transform.transform.translation.x = rest_.vertices(0, 5);
+  transform.transform.translation.y = rest_.vertices(1, 5);
+  transform.transform.translation.z = rest_.vertices(2, 5) + 0.001;
+  transform.transform.rotation.w = 1.0;
+  transformPub.publish(transform);
+  ros::WallDuration(0.3).sleep();
+  sensor_msgs::PointCloud2 state = goodState();
+  state.header.stamp = transform.header.stamp;
   ASSERT_TRUE(roundTrip(state));
   EXPECT_TRUE(waitFor([&] {
     std::lock_guard<std::mutex> lock(mutex_);

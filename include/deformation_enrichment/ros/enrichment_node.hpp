@@ -6,6 +6,7 @@
 #include <diagnostic_updater/publisher.h>
 #include <dynamic_reconfigure/server.h>
 #include <geometry_msgs/PoseStamped.h>
+#include <geometry_msgs/TransformStamped.h>
 #include <pcl_msgs/PolygonMesh.h>
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
@@ -54,6 +55,9 @@ private:
   void onMeshState(const sensor_msgs::PointCloud2ConstPtr& message);
   void onContacts(const ToolContactArrayConstPtr& message);
   void onToolPose(const geometry_msgs::PoseStampedConstPtr& message);
+  /// The same tool pose as a transform (CRTK measured_cp of dVRK <= 2.0 and AMBF before 2022).
+  void onToolTransform(const geometry_msgs::TransformStampedConstPtr& message);
+  void updateToolPose(const geometry_msgs::PoseStamped& pose, const char* input);
   void onMarkerTimer(const ros::TimerEvent&);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
   bool onSegmentSites(SegmentSites::Request& request, SegmentSites::Response& response);
@@ -100,7 +104,7 @@ private:
   MarkerOptions markerOptions_;
   SiteSegmentationParameters segmentation_;
 
-  ros::Subscriber restMeshSub_, meshStateSub_, contactsSub_, toolPoseSub_;
+  ros::Subscriber restMeshSub_, meshStateSub_, contactsSub_, toolPoseSub_, toolTransformSub_;
   ros::Publisher enrichedPub_, statusPub_, markersPub_, siteRegionsPub_;
   // Slow services run on their own queue and thread, so the enrichment never waits for them.
   ros::CallbackQueue serviceQueue_;

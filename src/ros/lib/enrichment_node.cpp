@@ -66,6 +66,7 @@ EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
   meshStateSub_ = nh_.subscribe("mesh_state", 2, &EnrichmentNode::onMeshState, this);
   contactsSub_ = nh_.subscribe("contacts", 10, &EnrichmentNode::onContacts, this);
   toolPoseSub_ = nh_.subscribe("tool_pose", 10, &EnrichmentNode::onToolPose, this);
+  toolTransformSub_ = nh_.subscribe("tool_transform", 10, &EnrichmentNode::onToolTransform, this);
 
   siteRegionsPub_ = privateNh_.advertise<visualization_msgs::MarkerArray>("site_regions", 1, /*latch=*/true);
   ros::NodeHandle serviceNh(privateNh_);
@@ -296,16 +297,28 @@ void EnrichmentNode::onContacts(const ToolContactArrayConstPtr& message) {
   }
 }
 
-void EnrichmentNode::onToolPose(const geometry_msgs::PoseStampedConstPtr& message) {
+void EnrichmentNode::onToolPose(const geometry_msgs::PoseStampedConstPtr& message) { updateToolPose(*message, "tool_pose"); }
+
+void EnrichmentNode::onToolTransform(const geometry_msgs::TransformStampedConstPtr& message) {
+  geometry_msgs::PoseStamped pose;
+  pose.header = message->header;  // the transform's parent frame is the pose's frame
+  pose.pose.position.x = message->transform.translation.x;
+  pose.pose.position.y = message->transform.translation.y;
+  pose.pose.position.z = message->transform.translation.z;
+  pose.pose.orientation = message->transform.rotation;
+  updateToolPose(pose, "tool_transform");
+}
+
+void EnrichmentNode::updateToolPose(const geometry_msgs::PoseStamped& pose, const char* input) {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (meshFrame_.empty() || !rest_) return reject("tool_pose", "no mesh state yet to find the contact");
+  if (meshFrame_.empty() || !rest_) return reject(input, "no mesh state yet to find the contact");
   try {
     // A URDF tip is measured against the triangles (exact, ~1.6 ms per pose at 100k vertices); the point
     // tip keeps its original vertex test (~0.4 ms).
-    contacts_.updateFromToolPose(*message, toolPoseId_, meshFrame_, lastPositions_, restNormals_, toolContactDistance_,
+    contacts_.updateFromToolPose(pose, toolPoseId_, meshFrame_, lastPositions_, restNormals_, toolContactDistance_,
                                  toolTip_, toolTip_.isPoint() ? nullptr : &rest_->triangles);
   } catch (const Error& e) {
-    reject("tool_pose", e.what());
+    reject(input, e.what());
   }
 }
 
