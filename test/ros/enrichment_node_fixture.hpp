@@ -97,6 +97,23 @@ protected:
     ASSERT_TRUE(waitFor([&] { return roundTrip(goodState(), 0.3); }, 20.0)) << "rest mesh never became active";
   }
 
+  // A tool pose (as PoseStamped or TransformStamped, sent by `publish`) 1 mm above surface vertex 5 must
+  // become the contact of ~tool_pose_id in the status of the next state.
+  void expectToolPoseContact(const std::function<void(const Eigen::Vector3d&, const std_msgs::Header&)>& publish) {
+    const std_msgs::Header stamped = header();
+    publish(rest_.vertices.col(5) + Eigen::Vector3d(0, 0, 0.001), stamped);
+    ros::WallDuration(0.3).sleep();
+    sensor_msgs::PointCloud2 state = goodState();
+    state.header.stamp = stamped.stamp;
+    ASSERT_TRUE(roundTrip(state));
+    EXPECT_TRUE(waitFor([&] {
+      std::lock_guard<std::mutex> lock(mutex_);
+      for (const auto& s : statuses_)
+        if (s->header.stamp == state.header.stamp && s->tool_ids == std::vector<std::string>{"tool_pose"}) return true;
+      return false;
+    }, 3.0));
+  }
+
   sensor_msgs::PointCloud2 goodState() { return cloudFromPositions(rest_.vertices.cast<float>(), header()); }
 
   bool logged(const std::string& fragment, double seconds = 3.0) {

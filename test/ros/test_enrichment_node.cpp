@@ -110,47 +110,31 @@ TEST_F(EnrichmentNodeTest, ContactsInUnknownFramesAreRejectedValidOnesReported) 
 }
 
 TEST_F(EnrichmentNodeTest, ToolPoseNearTheSurfaceBecomesAContact) {
-  geometry_msgs::PoseStamped pose;
-  pose.header = header();
-  pose.pose.position.x = rest_.vertices(0, 5);
-  pose.pose.position.y = rest_.vertices(1, 5);
-  pose.pose.position.z = rest_.vertices(2, 5) + 0.001;
-  pose.pose.orientation.w = 1.0;
-  posePub_.publish(pose);
-  ros::WallDuration(0.3).sleep();
-  sensor_msgs::PointCloud2 state = goodState();
-  state.header.stamp = pose.header.stamp;
-  ASSERT_TRUE(roundTrip(state));
-  EXPECT_TRUE(waitFor([&] {
-    std::lock_guard<std::mutex> lock(mutex_);
-    for (const auto& s : statuses_)
-      if (s->header.stamp == state.header.stamp && s->tool_ids == std::vector<std::string>{"tool_pose"}) return true;
-    return false;
-  }, 3.0));
+  expectToolPoseContact([&](const Eigen::Vector3d& p, const std_msgs::Header& h) {
+    geometry_msgs::PoseStamped pose;
+    pose.header = h;
+    pose.pose.position.x = p.x();
+    pose.pose.position.y = p.y();
+    pose.pose.position.z = p.z();
+    pose.pose.orientation.w = 1.0;
+    posePub_.publish(pose);
+  });
 }
 
 TEST_F(EnrichmentNodeTest, ToolTransformOfOlderCrtkStacksBecomesAContact) {
   // dVRK <= 2.0 and AMBF before 2022 publish measured_cp as a TransformStamped.
   auto transformPub = nh_.advertise<geometry_msgs::TransformStamped>("tool_transform", 10);
   ASSERT_TRUE(waitFor([&] { return transformPub.getNumSubscribers() > 0; }, 5.0));
-  geometry_msgs::TransformStamped transform;
-  transform.header = header();
-  transform.child_frame_id = "PSM1_tool_tip";
-  transform.transform.translation.x = rest_.vertices(0, 5);
-  transform.transform.translation.y = rest_.vertices(1, 5);
-  transform.transform.translation.z = rest_.vertices(2, 5) + 0.001;
-  transform.transform.rotation.w = 1.0;
-  transformPub.publish(transform);
-  ros::WallDuration(0.3).sleep();
-  sensor_msgs::PointCloud2 state = goodState();
-  state.header.stamp = transform.header.stamp;
-  ASSERT_TRUE(roundTrip(state));
-  EXPECT_TRUE(waitFor([&] {
-    std::lock_guard<std::mutex> lock(mutex_);
-    for (const auto& s : statuses_)
-      if (s->header.stamp == state.header.stamp && s->tool_ids == std::vector<std::string>{"tool_pose"}) return true;
-    return false;
-  }, 3.0));
+  expectToolPoseContact([&](const Eigen::Vector3d& p, const std_msgs::Header& h) {
+    geometry_msgs::TransformStamped transform;
+    transform.header = h;
+    transform.child_frame_id = "PSM1_tool_tip";
+    transform.transform.translation.x = p.x();
+    transform.transform.translation.y = p.y();
+    transform.transform.translation.z = p.z();
+    transform.transform.rotation.w = 1.0;
+    transformPub.publish(transform);
+  });
 }
 
 TEST_F(EnrichmentNodeTest, MarkersForSubscribersAndDiagnostics) {
