@@ -125,6 +125,22 @@ foreach(tool_source ${DE_TOOL_SOURCES})
   list(APPEND DE_TOOL_TARGETS ${tool})
 endforeach()
 
+# A test that runs command-line tools (a source using DE_TOOL_DIR and naming the tool, "de_simulate" or
+# "/de_simulate") depends on those tools only, so building one unit test (scripts/test --sanitize --core
+# --only) does not build every tool and with them every layer.
+function(de_depend_on_tools_run_by target)
+  foreach(source ${ARGN})
+    file(READ ${source} text)
+    if(text MATCHES "DE_TOOL_DIR")
+      foreach(tool ${DE_TOOL_TARGETS})
+        if(text MATCHES "[^A-Za-z0-9_]${tool}[^A-Za-z0-9_]")
+          add_dependencies(${target} ${tool})
+        endif()
+      endforeach()
+    endif()
+  endforeach()
+endfunction()
+
 # Unit tests (GoogleTest, no ROS master): test/unit/<module>/*.cpp becomes the test unit_<module>.
 if(DE_BUILD_TESTS)
   find_package(GTest REQUIRED)
@@ -146,9 +162,7 @@ if(DE_BUILD_TESTS)
           DE_SOURCE_DIR="${PROJECT_SOURCE_DIR}" DE_TOOL_DIR="${DE_TOOL_DIR}")
         de_link_core_for(unit_${module} ${unit_sources})
         target_link_libraries(unit_${module} GTest::gtest GTest::gtest_main)
-        if(DE_TOOL_TARGETS)
-          add_dependencies(unit_${module} ${DE_TOOL_TARGETS})
-        endif()
+        de_depend_on_tools_run_by(unit_${module} ${unit_sources})
         add_test(NAME unit_${module} COMMAND unit_${module}
           --gtest_output=xml:${CMAKE_BINARY_DIR}/test_results/${PROJECT_NAME}/gtest-unit_${module}.xml
           WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})

@@ -15,11 +15,21 @@ mkdir -p "$ROS_HOME"
 # Idle OpenMP threads sleep instead of spinning (spinning threads starve each other on 2 cores).
 export OMP_WAIT_POLICY="${OMP_WAIT_POLICY:-PASSIVE}"
 
-de_build() {  # de_build [extra targets...]: configure and build the package and the given targets
+# DE_CMAKE_ARGS: extra configure arguments, a bash array (one element per argument, so values may hold spaces).
+de_configure() {  # configure $DE_BUILD (log in $DE_BUILD/configure.log, printed on failure)
   mkdir -p "$DE_BUILD"
   cmake -S "$DE_ROOT" -B "$DE_BUILD" -DCMAKE_BUILD_TYPE="${DE_BUILD_TYPE:-Release}" -DCATKIN_DEVEL_PREFIX="$DE_DEVEL" \
-    ${DE_CMAKE_ARGS:-} >"$DE_BUILD/configure.log" 2>&1 || { cat "$DE_BUILD/configure.log"; return 1; }
+    "${DE_CMAKE_ARGS[@]}" >"$DE_BUILD/configure.log" 2>&1 || { cat "$DE_BUILD/configure.log"; return 1; }
+}
+
+de_build() {  # de_build [extra targets...]: configure and build the package and the given targets
+  de_configure || return 1
   cmake --build "$DE_BUILD" -j"$(nproc)" || return 1
   local target
   for target in "$@"; do cmake --build "$DE_BUILD" -j"$(nproc)" --target "$target" || return 1; done
+}
+
+de_build_only() {  # de_build_only targets...: configure and build only the given targets and what they need
+  de_configure || return 1
+  cmake --build "$DE_BUILD" -j"$(nproc)" --target "$@"
 }
