@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include "enricher_test_support.hpp"
+
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -16,19 +18,8 @@ using enrichment::ContactEnricher;
 
 namespace {
 
-mesh::TriangleMesh slabSurface() {
-  return mesh::extractSurface(mesh::gridTetMesh(Eigen::Vector3d(-0.05, -0.05, 0.0), Eigen::Vector3d(0.05, 0.05, 0.02),
-                                                Eigen::Vector3i(16, 16, 3)))
-      .surface;
-}
-
-enrichment::ContactEnricherOptions options() {
-  enrichment::ContactEnricherOptions o;
-  o.descriptors.window.scale = 0.008;
-  o.stampRadius = 0.02;
-  o.sampleSpacing = 0.003;
-  return o;
-}
+using de_test::slabSurface;
+enrichment::ContactEnricherOptions options() { return de_test::enricherOptions(); }
 
 // A dent with a lateral shear around `centre` (sign flips it): smooth, so MLS sees a clear deformation.
 Eigen::Matrix3Xd dented(const Eigen::Matrix3Xd& rest, const Eigen::Vector3d& centre, double sign) {

@@ -2,6 +2,8 @@
 // blends, a smooth confidence gate, released sites after lift-off and the temporal filter.
 #include <gtest/gtest.h>
 
+#include "enricher_test_support.hpp"
+
 #include <cmath>
 #include <limits>
 
@@ -19,19 +21,8 @@ using enrichment::ContactEnricher;
 
 namespace {
 
-mesh::TriangleMesh slabSurface() {
-  return mesh::extractSurface(mesh::gridTetMesh(Eigen::Vector3d(-0.05, -0.05, 0.0), Eigen::Vector3d(0.05, 0.05, 0.02),
-                                                Eigen::Vector3i(16, 16, 3)))
-      .surface;
-}
-
-enrichment::ContactEnricherOptions options() {
-  enrichment::ContactEnricherOptions o;
-  o.descriptors.window.scale = 0.008;
-  o.stampRadius = 0.02;
-  o.sampleSpacing = 0.003;
-  return o;
-}
+using de_test::slabSurface;
+enrichment::ContactEnricherOptions options() { return de_test::enricherOptions(); }
 
 // A press of `depth` under `centre`, fading into the slab.
 Eigen::Matrix3Xd pressed(const Eigen::Matrix3Xd& rest, const Eigen::Vector3d& centre, double depth) {
