@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <set>
 
 #include "deformation_enrichment/SegmentSites.h"
@@ -135,6 +136,16 @@ TEST_F(EnrichmentNodeTest, ToolTransformOfOlderCrtkStacksBecomesAContact) {
     transform.transform.rotation.w = 1.0;
     transformPub.publish(transform);
   });
+  // A non-finite transform is dropped; the node keeps enriching.
+  geometry_msgs::TransformStamped bad;
+  bad.header = header();
+  bad.transform.translation.x = std::numeric_limits<double>::quiet_NaN();
+  bad.transform.rotation.w = 1.0;
+  transformPub.publish(bad);
+  ros::WallDuration(0.2).sleep();
+  sensor_msgs::PointCloud2 after = goodState();
+  ASSERT_TRUE(roundTrip(after)) << "the node must keep running after a NaN tool transform";
+  EXPECT_TRUE(de::ros_layer::positionsFromCloud(*findEnriched(after.header.stamp)).allFinite());
 }
 
 TEST_F(EnrichmentNodeTest, MarkersForSubscribersAndDiagnostics) {
