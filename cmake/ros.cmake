@@ -71,7 +71,7 @@ if(DE_BUILD_BENCHMARKS)
     get_filename_component(bench ${bench_source} NAME_WE)
     add_executable(${bench} ${bench_source})
     target_compile_options(${bench} PRIVATE ${DE_WARNINGS})
-    target_link_libraries(${bench} deformation_enrichment_ros)
+    target_link_libraries(${bench} deformation_enrichment_ros benchmark::benchmark)
     de_link_core_for(${bench} ${bench_source})
     add_dependencies(${bench} enrichment_node deformation_enrichment_nodelets)
   endforeach()
@@ -94,7 +94,7 @@ if(CATKIN_ENABLE_TESTING)
     DEPENDS enrichment_node deformation_enrichment_nodelets)
   add_rostest(test/ros/enrichment_nodelet.test DEPENDENCIES test_enrichment_node)
   de_rostest_gtest(test_enrichment_knobs test/ros/enrichment_knobs.test
-    SOURCES test/ros/test_enrichment_knobs.cpp test/ros/test_tool_tip.cpp DEPENDS enrichment_node deformation_enrichment_nodelets)
+    SOURCES test/ros/test_enrichment_knobs.cpp test/ros/test_tool_tip.cpp test/ros/test_tool_pose_sources.cpp DEPENDS enrichment_node deformation_enrichment_nodelets)
   add_rostest(test/ros/enrichment_knobs_nodelet.test DEPENDENCIES test_enrichment_knobs)
   add_rostest(test/ros/demo.test DEPENDENCIES ${DE_NODE_TARGETS})
   set_tests_properties(_ctest_${PROJECT_NAME}_rostest_test_ros_demo.test PROPERTIES
@@ -116,6 +116,10 @@ if(CATKIN_ENABLE_TESTING)
     $<TARGET_FILE:enrichment_node>=simulation,shape_space)
   de_rostest_gtest(test_recorded_sequence test/ros/recorded_sequence.test SOURCES test/ros/test_recorded_sequence.cpp
     DEPENDS enrichment_node)
+  de_rostest_gtest(test_live_stream_node test/ros/live_stream.test SOURCES test/ros/test_live_stream_node.cpp
+    test/accuracy/live_stream_scenario.hpp DEPENDS enrichment_node)
+  set_tests_properties(_ctest_${PROJECT_NAME}_rostest_test_ros_live_stream.test PROPERTIES
+    FIXTURES_REQUIRED slab_set ENVIRONMENT DE_TEST_SLAB_SET=${DE_TEST_SLAB_SET})
   de_rostest_gtest(test_shape_space_server test/ros/shape_space_server.test SOURCES test/ros/test_shape_space_server.cpp
     test/unit/shape_space/real_sequences.hpp
     DEPENDS ${DE_NODE_TARGETS})

@@ -394,7 +394,7 @@ TEST_F(EnrichmentKnobsTest, ToolTipFromTheUrdfDecidesProximity) {
   // ~tool_tip_link, so the node must have logged the problem and use the pose position as a point tip.
   const std::string expect = privateNh.param<std::string>("expect_tool_tip", "sphere");
   const double r = privateNh.param("tip_radius", 0.004), contactDistance = privateNh.param("contact_distance", 0.001);
-  const std::string tip = diagnosticValue("tool tip");
+  const std::string tip = diagnosticValue("tool tip of tool_pose on tool_pose");
   if (expect == "sphere") {
     EXPECT_NE(tip.find("sphere r=" + std::to_string(r).substr(0, 5)), std::string::npos) << tip;
   } else {

@@ -32,6 +32,7 @@
 #include "deformation_enrichment/ros/contact_tracker.hpp"
 #include "deformation_enrichment/ros/enrichment_markers.hpp"
 #include "deformation_enrichment/ros/site_regions.hpp"
+#include "deformation_enrichment/ros/tool_pose_sources.hpp"
 #include "deformation_enrichment/ros/tool_tip.hpp"
 
 namespace deformation_enrichment::ros_layer {
@@ -54,10 +55,22 @@ private:
   void onRestMesh(const pcl_msgs::PolygonMeshConstPtr& message);
   void onMeshState(const sensor_msgs::PointCloud2ConstPtr& message);
   void onContacts(const ToolContactArrayConstPtr& message);
-  void onToolPose(const geometry_msgs::PoseStampedConstPtr& message);
-  /// The same tool pose as a transform (CRTK measured_cp of dVRK <= 2.0 and AMBF before 2022).
-  void onToolTransform(const geometry_msgs::TransformStampedConstPtr& message);
-  void updateToolPose(const geometry_msgs::PoseStamped& pose, const char* input);
+  /// One tool's pose topic (~tool_poses, or tool_pose and tool_transform) with its tip geometry.
+  struct ToolPoseSource {
+    ToolPoseSpec spec;
+    ToolTip tip;
+    std::string tipStatus;  ///< the tip's description, or why the URDF tip was not used
+    ros::Subscriber subscriber;
+  };
+  /// Subscribes the pose topics of ~tool_poses (or the default pair); an unusable list is logged and the
+  /// default pair subscribed instead.
+  void subscribeToolPoses();
+  /// Checks a tool's pose and keeps it as the tool's latest (a bad one is logged and dropped).
+  void updateToolPose(const geometry_msgs::PoseStamped& pose, const ToolPoseSource& source);
+  /// The contacts of the kept tool poses on the mesh state `positions` (stamped `stamp`), so a contact lies
+  /// on the state it goes with however poses and states interleave; a pose stamped over a second after the
+  /// state (a rosbag started over) is forgotten.
+  void resolveToolPoses(const ros::Time& stamp, const Eigen::Matrix3Xf& positions);
   void onMarkerTimer(const ros::TimerEvent&);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
   bool onSegmentSites(SegmentSites::Request& request, SegmentSites::Response& response);
@@ -72,8 +85,9 @@ private:
   /// installs both; throws on failure, leaving everything as it was. Service thread only.
   void installEnricher(examples::ExampleSet set, const EnrichmentKnobs& knobs);
   void onReconfigure(EnrichmentConfig& config, uint32_t level);
-  /// Reads ~tool_tip_link's collision geometry from robot_description (point tip without them).
-  void loadToolTip();
+  /// `link`'s collision geometry from robot_description (a point tip for an empty link, or without a
+  /// usable URDF, logged); `status` describes which.
+  ToolTip loadToolTip(const std::string& link, std::string& status) const;
   /// Whether the state's data, the contacts and the configuration equal those of the last enriched state
   /// (never while the temporal filter runs: its output moves on every state).
   bool unchanged(const sensor_msgs::PointCloud2& message, const std::vector<enrichment::Contact>& contacts) const;
@@ -95,16 +109,16 @@ private:
   ContactTracker contacts_;
 
   // Parameters (documented in config/enrichment.yaml).
-  std::string toolPoseId_;
   double toolContactDistance_ = 0.003;
   double errorThrottle_ = 1.0;
   EnrichmentKnobs knobs_;  // requested run-time knobs (guarded by mutex_)
-  ToolTip toolTip_;
-  std::string toolTipStatus_;
+  std::vector<std::unique_ptr<ToolPoseSource>> toolSources_;  // stable addresses: the callbacks hold them
+  // The latest pose of each tool id (guarded by mutex_), with the source it came from.
+  std::map<std::string, std::pair<geometry_msgs::PoseStamped, const ToolPoseSource*>> toolPoses_;
   MarkerOptions markerOptions_;
   SiteSegmentationParameters segmentation_;
 
-  ros::Subscriber restMeshSub_, meshStateSub_, contactsSub_, toolPoseSub_, toolTransformSub_;
+  ros::Subscriber restMeshSub_, meshStateSub_, contactsSub_;
   ros::Publisher enrichedPub_, statusPub_, markersPub_, siteRegionsPub_;
   // Slow services run on their own queue and thread, so the enrichment never waits for them.
   ros::CallbackQueue serviceQueue_;

@@ -49,10 +49,7 @@ void ContactTracker::updateFromArray(const ToolContactArray& message, const std:
   latestStamp_ = std::max(latestStamp_, message.header.stamp);
 }
 
-void ContactTracker::updateFromToolPose(const geometry_msgs::PoseStamped& pose, const std::string& toolId,
-                                        const std::string& meshFrame, const Eigen::Matrix3Xf& surface,
-                                        const Eigen::Matrix3Xd& restNormals, double contactDistance, const ToolTip& tip,
-                                        const Eigen::Matrix3Xi* triangles) {
+Eigen::Isometry3d ContactTracker::linkPose(const geometry_msgs::PoseStamped& pose, const std::string& toolId, const ToolTip& tip) {
   Eigen::Vector3d position;
   tf2::fromMsg(pose.pose.position, position);
   Eigen::Quaterniond orientation;
@@ -64,8 +61,14 @@ void ContactTracker::updateFromToolPose(const geometry_msgs::PoseStamped& pose, 
   else if (std::abs(orientation.norm() - 1.0) > 1e-3)
     throw InvalidInputError("tool pose of '" + toolId + "' has no valid orientation (quaternion norm " +
                             std::to_string(orientation.norm()) + ")");
-  const Eigen::Isometry3d linkPose = Eigen::Translation3d(position) * orientation.normalized();
-  const Eigen::Isometry3d linkToMesh = toMeshFrame(pose.header, meshFrame) * linkPose;
+  return Eigen::Translation3d(position) * orientation.normalized();
+}
+
+void ContactTracker::updateFromToolPose(const geometry_msgs::PoseStamped& pose, const std::string& toolId,
+                                        const std::string& meshFrame, const Eigen::Matrix3Xf& surface,
+                                        const Eigen::Matrix3Xd& restNormals, double contactDistance, const ToolTip& tip,
+                                        const Eigen::Matrix3Xi* triangles) {
+  const Eigen::Isometry3d linkToMesh = toMeshFrame(pose.header, meshFrame) * linkPose(pose, toolId, tip);
   const Eigen::Isometry3d meshToLink = linkToMesh.inverse();
   if (surface.cols() == 0) throw InvalidInputError("no mesh state yet to find the contact of tool '" + toolId + "'");
   // Lower bounds |v - c| - R from the tip's bounding ball (vectorised, float; 1 um slack for rounding),
@@ -121,6 +124,9 @@ void ContactTracker::updateFromToolPose(const geometry_msgs::PoseStamped& pose, 
     contacts_.erase(toolId);
     return;
   }
+  // A point tip without triangles is in contact by its nearest vertex, but the contact is the tip itself: the
+  // enricher puts it on its nearest surface point, so it does not jump from vertex to vertex as the tool slides.
+  if (tip.isPoint() && triangles == nullptr) point = linkToMesh.translation();
   contacts_[toolId] = TrackedContact{toolId, point, restNormals.col(normalVertex), 0.0, pose.header.stamp};
 }
 

@@ -18,7 +18,6 @@ EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
       tfListener_(tfBuffer_, nh),
       contacts_(tfBuffer_, ros::Duration(privateNh.param("contact_timeout", 0.5))),
       diagnostics_(nh, privateNh) {
-  toolPoseId_ = privateNh_.param<std::string>("tool_pose_id", "tool_pose");
   errorThrottle_ = privateNh_.param("error_throttle", 1.0);
   toolContactDistance_ = privateNh_.param("tool_contact_distance", 0.003);
   markerOptions_.maxTriangles = privateNh_.param("marker_max_triangles", 50000);
@@ -35,12 +34,13 @@ EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
   enrichment::ContactContinuityOptions continuity;
   continuity.followRelease = privateNh_.param("follow_release", true);
   continuity.releaseFloor = privateNh_.param("release_floor", continuity.releaseFloor);
+  continuity.matchRadius = privateNh_.param("site_match_radius", continuity.matchRadius);
   try {
     continuity_ = enrichment::ContactContinuity(continuity);
   } catch (const Error& e) {
-    ROS_ERROR("~release_floor rejected: %s (keeping %g)", e.what(), enrichment::ContactContinuityOptions().releaseFloor);
+    ROS_ERROR("~release_floor or ~site_match_radius rejected: %s (keeping %g and %g)", e.what(),
+              enrichment::ContactContinuityOptions().releaseFloor, enrichment::ContactContinuityOptions().matchRadius);
   }
-  loadToolTip();
   minRate_ = privateNh_.param("expected_rate_min", 1.0);
   maxRate_ = privateNh_.param("expected_rate_max", 1000.0);
 
@@ -65,8 +65,7 @@ EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
   restMeshSub_ = nh_.subscribe("rest_mesh", 1, &EnrichmentNode::onRestMesh, this);
   meshStateSub_ = nh_.subscribe("mesh_state", 2, &EnrichmentNode::onMeshState, this);
   contactsSub_ = nh_.subscribe("contacts", 10, &EnrichmentNode::onContacts, this);
-  toolPoseSub_ = nh_.subscribe("tool_pose", 10, &EnrichmentNode::onToolPose, this);
-  toolTransformSub_ = nh_.subscribe("tool_transform", 10, &EnrichmentNode::onToolTransform, this);
+  subscribeToolPoses();
 
   siteRegionsPub_ = privateNh_.advertise<visualization_msgs::MarkerArray>("site_regions", 1, /*latch=*/true);
   ros::NodeHandle serviceNh(privateNh_);
@@ -180,6 +179,7 @@ void EnrichmentNode::onMeshState(const sensor_msgs::PointCloud2ConstPtr& message
     return reject("mesh_state", e.what());
   }
   meshFrame_ = message->header.frame_id;
+  resolveToolPoses(message->header.stamp, positions);
   const std::vector<TrackedContact> active = contacts_.active(message->header.stamp);
 
   EnrichmentStatus status;
@@ -297,28 +297,32 @@ void EnrichmentNode::onContacts(const ToolContactArrayConstPtr& message) {
   }
 }
 
-void EnrichmentNode::onToolPose(const geometry_msgs::PoseStampedConstPtr& message) { updateToolPose(*message, "tool_pose"); }
-
-void EnrichmentNode::onToolTransform(const geometry_msgs::TransformStampedConstPtr& message) {
-  geometry_msgs::PoseStamped pose;
-  pose.header = message->header;  // the transform's parent frame is the pose's frame
-  pose.pose.position.x = message->transform.translation.x;
-  pose.pose.position.y = message->transform.translation.y;
-  pose.pose.position.z = message->transform.translation.z;
-  pose.pose.orientation = message->transform.rotation;
-  updateToolPose(pose, "tool_transform");
+void EnrichmentNode::updateToolPose(const geometry_msgs::PoseStamped& pose, const ToolPoseSource& source) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  try {
+    ContactTracker::linkPose(pose, source.spec.id, source.tip);
+    toolPoses_[source.spec.id] = {pose, &source};
+  } catch (const Error& e) {
+    reject(source.spec.topic, e.what());
+  }
 }
 
-void EnrichmentNode::updateToolPose(const geometry_msgs::PoseStamped& pose, const char* input) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  if (meshFrame_.empty() || !rest_) return reject(input, "no mesh state yet to find the contact");
-  try {
-    // A URDF tip is measured against the triangles (exact, ~1.6 ms per pose at 100k vertices); the point
-    // tip keeps its original vertex test (~0.4 ms).
-    contacts_.updateFromToolPose(pose, toolPoseId_, meshFrame_, lastPositions_, restNormals_, toolContactDistance_,
-                                 toolTip_, toolTip_.isPoint() ? nullptr : &rest_->triangles);
-  } catch (const Error& e) {
-    reject(input, e.what());
+void EnrichmentNode::resolveToolPoses(const ros::Time& stamp, const Eigen::Matrix3Xf& positions) {
+  for (auto it = toolPoses_.begin(); it != toolPoses_.end();) {
+    const auto& [pose, source] = it->second;
+    if (pose.header.stamp > stamp + ros::Duration(1.0)) {
+      it = toolPoses_.erase(it);
+      continue;
+    }
+    try {
+      // A URDF tip is measured against the triangles (exact, ~1.6 ms at 100k vertices, bench_tool_contact_ros);
+      // a point tip against the vertices (~0.35 ms), its contact being the tip itself.
+      contacts_.updateFromToolPose(pose, source->spec.id, meshFrame_, positions, restNormals_, toolContactDistance_,
+                                   source->tip, source->tip.isPoint() ? nullptr : &rest_->triangles);
+    } catch (const Error& e) {
+      reject(source->spec.topic, e.what());
+    }
+    ++it;
   }
 }
 
@@ -396,7 +400,7 @@ void EnrichmentNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& statu
     status.add("sigma_rho fitted", enricher_->loadedWidths().sigmaRho);
     status.add("sigma_u fitted", enricher_->loadedWidths().sigmaU);
   }
-  status.add("tool tip", toolTipStatus_);
+  for (const auto& source : toolSources_) status.add("tool tip of " + source->spec.id + " on " + source->spec.topic, source->tipStatus);
 }
 
 }  // namespace deformation_enrichment::ros_layer

@@ -1,5 +1,6 @@
 // The enrichment node's configuration at run time: example sets, the dynamically reconfigurable knobs
-// (stamp gain, kernel widths, Hermite order) and the tool tip geometry from robot_description.
+// (stamp gain, kernel widths, Hermite order), the tool pose topics and their tips' geometry from
+// robot_description.
 // Slow work (building an enricher: interior sampling, leave-one-out width fit) runs on the service thread
 // outside the frame lock; the finished enricher is swapped in under it, so a change applies from the next
 // mesh state on.
@@ -151,26 +152,64 @@ void EnrichmentNode::onReconfigure(EnrichmentConfig& config, uint32_t /*level*/)
   ++configVersion_;  // the next state is computed afresh
 }
 
-void EnrichmentNode::loadToolTip() {
-  const std::string link = privateNh_.param<std::string>("tool_tip_link", "");
+ToolTip EnrichmentNode::loadToolTip(const std::string& link, std::string& status) const {
   if (link.empty()) {
-    toolTipStatus_ = toolTip_.description();
-    return;
+    status = ToolTip().description();
+    return {};
   }
   std::string key, urdf;
   if (!privateNh_.searchParam("robot_description", key) || !privateNh_.getParam(key, urdf)) {
-    toolTipStatus_ = "point (no robot_description for ~tool_tip_link '" + link + "')";
-    ROS_WARN("~tool_tip_link '%s' is set but there is no robot_description: the tool pose position is the tip",
-             link.c_str());
-    return;
+    status = "point (no robot_description for tip link '" + link + "')";
+    ROS_WARN("tip link '%s' is set but there is no robot_description: the tool pose position is the tip", link.c_str());
+    return {};
   }
   try {
-    toolTip_ = toolTipFromUrdf(urdf, link);
-    toolTipStatus_ = toolTip_.description();
-    ROS_INFO("tool tip: %s", toolTipStatus_.c_str());
+    ToolTip tip = toolTipFromUrdf(urdf, link);
+    status = tip.description();
+    ROS_INFO("tool tip: %s", status.c_str());
+    return tip;
   } catch (const Error& e) {
-    toolTipStatus_ = std::string("point (robot_description rejected: ") + e.what() + ")";
+    status = std::string("point (robot_description rejected: ") + e.what() + ")";
     ROS_ERROR("tool tip from robot_description rejected: %s; the tool pose position is the tip", e.what());
+    return {};
+  }
+}
+
+void EnrichmentNode::subscribeToolPoses() {
+  std::vector<ToolPoseSpec> specs = defaultToolPoseSpecs(privateNh_.param<std::string>("tool_pose_id", "tool_pose"),
+                                                         privateNh_.param<std::string>("tool_tip_link", ""));
+  XmlRpc::XmlRpcValue list;
+  if (privateNh_.getParam("tool_poses", list)) {
+    try {
+      std::vector<ToolPoseSpec> listed = toolPoseSpecs(list);
+      if (!listed.empty()) specs = std::move(listed);
+    } catch (const Error& e) {
+      ROS_ERROR("%s: subscribing tool_pose and tool_transform instead", e.what());
+    }
+  }
+  for (const ToolPoseSpec& spec : specs) {
+    auto source = std::make_unique<ToolPoseSource>();
+    source->spec = spec;
+    source->tip = loadToolTip(spec.tipLink, source->tipStatus);
+    const ToolPoseSource* self = source.get();
+    if (spec.type == ToolPoseSpec::Type::Pose) {
+      source->subscriber = nh_.subscribe<geometry_msgs::PoseStamped>(
+          spec.topic, 10, [this, self](const geometry_msgs::PoseStampedConstPtr& message) { updateToolPose(*message, *self); });
+    } else {
+      source->subscriber = nh_.subscribe<geometry_msgs::TransformStamped>(
+          spec.topic, 10, [this, self](const geometry_msgs::TransformStampedConstPtr& message) {
+            geometry_msgs::PoseStamped pose;
+            pose.header = message->header;  // the transform's parent frame is the pose's frame
+            pose.pose.position.x = message->transform.translation.x;
+            pose.pose.position.y = message->transform.translation.y;
+            pose.pose.position.z = message->transform.translation.z;
+            pose.pose.orientation = message->transform.rotation;
+            updateToolPose(pose, *self);
+          });
+    }
+    ROS_INFO("tool '%s' from %s (%s)", spec.id.c_str(), source->subscriber.getTopic().c_str(),
+             spec.type == ToolPoseSpec::Type::Pose ? "geometry_msgs/PoseStamped" : "geometry_msgs/TransformStamped");
+    toolSources_.push_back(std::move(source));
   }
 }
 

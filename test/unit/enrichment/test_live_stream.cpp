@@ -236,6 +236,49 @@ TEST(LiveStream, ReleasedSiteKeepsItsDetailAndFadesWithTheTissue) {
   EXPECT_TRUE(without.contactsFor({}).empty());
 }
 
+// What ContactEnricher::enrich would report for `contacts`: each contact's rest point is its point, its
+// frame axis `axes[i]`, |mu| 1.
+enrichment::EnrichmentResult outcomes(const std::vector<Contact>& contacts, const std::vector<Eigen::Vector3d>& axes) {
+  enrichment::EnrichmentResult result;
+  for (std::size_t i = 0; i < contacts.size(); ++i) {
+    enrichment::ContactOutcome o;
+    o.toolId = contacts[i].toolId;
+    o.description.p = contacts[i].point;
+    o.description.B.col(0) = axes[i];
+    o.muNorm = 1.0;
+    result.contacts.push_back(o);
+  }
+  return result;
+}
+
+TEST(LiveStream, SitesGoWithTheTouchedPlaceNotWithToolIds) {
+  enrichment::ContactContinuity continuity;  // match radius 5 mm
+  const Eigen::Vector3d p1(-0.01, 0, 0.02), p2(0.01, 0, 0.02), a1 = Eigen::Vector3d::UnitX(), a2 = -Eigen::Vector3d::UnitY();
+  std::vector<Contact> now = continuity.contactsFor({currentContact(p1, 1), currentContact(p2, 2)});
+  ASSERT_EQ(now.size(), 2u);
+  EXPECT_FALSE(now[0].previousFrameAxis) << "new sites have no history";
+  continuity.update(outcomes(now, {a1, a2}));
+  // The two tools swap ids (and move 1 mm): each contact continues the site it touches.
+  now = continuity.contactsFor({currentContact(p2 + Eigen::Vector3d(0.001, 0, 0), 1), currentContact(p1, 2)});
+  ASSERT_EQ(now.size(), 2u) << "no site is released by a swap";
+  ASSERT_TRUE(now[0].previousFrameAxis && now[1].previousFrameAxis);
+  EXPECT_EQ(*now[0].previousFrameAxis, a2);
+  EXPECT_EQ(*now[1].previousFrameAxis, a1);
+  EXPECT_EQ(continuity.releasedSites(), 0u);
+  continuity.update(outcomes(now, {a2, a1}));
+  // Tool 1 jumps 2 cm away (farther than the match radius): it starts afresh and its old site is released;
+  // tool 2 lifted off: its site is released too.
+  now = continuity.contactsFor({currentContact(p2 + Eigen::Vector3d(0.02, 0, 0), 1)});
+  ASSERT_EQ(now.size(), 3u);
+  EXPECT_FALSE(now[0].previousFrameAxis);
+  EXPECT_EQ(continuity.releasedSites(), 2u);
+  for (std::size_t i = 1; i < 3; ++i) {
+    EXPECT_TRUE(now[i].restState);
+    EXPECT_NE(now[i].toolId, 1) << "a released site keeps an id no touching tool has";
+  }
+  EXPECT_THROW(enrichment::ContactContinuity({true, 0.02, 0.0}), InvalidInputError);
+}
+
 TEST(LiveStream, TemporalFilterIsTheExactFirstOrderLowPass) {
   enrichment::TemporalFilter filter(0.05);
   const double dt = 1.0 / 60.0, alpha = 1.0 - std::exp(-dt / 0.05);
