@@ -94,7 +94,8 @@ if(CATKIN_ENABLE_TESTING)
     DEPENDS enrichment_node deformation_enrichment_nodelets)
   add_rostest(test/ros/enrichment_nodelet.test DEPENDENCIES test_enrichment_node)
   de_rostest_gtest(test_enrichment_knobs test/ros/enrichment_knobs.test
-    SOURCES test/ros/test_enrichment_knobs.cpp test/ros/test_tool_tip.cpp test/ros/test_tool_pose_sources.cpp DEPENDS enrichment_node deformation_enrichment_nodelets)
+    SOURCES test/ros/test_enrichment_knobs.cpp test/ros/test_tool_tip.cpp test/ros/test_tool_pose_sources.cpp
+    test/ros/test_enrichment_markers.cpp DEPENDS enrichment_node deformation_enrichment_nodelets)
   add_rostest(test/ros/enrichment_knobs_nodelet.test DEPENDENCIES test_enrichment_knobs)
   add_rostest(test/ros/demo.test DEPENDENCIES ${DE_NODE_TARGETS})
   set_tests_properties(_ctest_${PROJECT_NAME}_rostest_test_ros_demo.test PROPERTIES

@@ -3,8 +3,10 @@
 // at held-out contacts (~contacts_file, or random ones on the touchable surface), holds, and lifts off.
 // At start-up the coarse quasi-static path of every tap is solved once (a few seconds); the node then plays
 // it at `rate`, interpolating between solved steps, and publishes the latched rest mesh (the display surface
-// the examples were acquired on), the coarse states carried onto it, and the tool's contacts.
+// the examples were acquired on), the coarse states carried onto it, the tool's contacts, and its frame
+// (~frame_id, default slab) as a static tf child of ~parent_frame (default world; empty: no tf).
 #include <ros/ros.h>
+#include <tf2_ros/static_transform_broadcaster.h>
 
 #include <algorithm>
 #include <cmath>
@@ -36,12 +38,38 @@ double pathParameter(double phase, int steps) {
   return 0.0;
 }
 
+de::ToolContact toolContact(const std_msgs::Header& header, const Eigen::Vector3d& tip, const Eigen::Vector3d& inward) {
+  de::ToolContact contact;
+  contact.header = header;
+  contact.tool_id = "demo_tool";
+  contact.in_contact = true;
+  contact.position.x = tip.x();
+  contact.position.y = tip.y();
+  contact.position.z = tip.z();
+  contact.normal.x = -inward.x();
+  contact.normal.y = -inward.y();
+  contact.normal.z = -inward.z();
+  return contact;
+}
+
+// The scene's frame as an identity child of `parent` in tf: without any tf data for it rviz reports its
+// fixed frame missing (Global Status: Warn), although every message is in that frame.
+geometry_msgs::TransformStamped frameTransform(const std::string& parent, const std_msgs::Header& header) {
+  geometry_msgs::TransformStamped transform;
+  transform.header.stamp = header.stamp;
+  transform.header.frame_id = parent;
+  transform.child_frame_id = header.frame_id;
+  transform.transform.rotation.w = 1.0;
+  return transform;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "demo_scene");
   ros::NodeHandle nh, pnh("~");
   const std::string frame = pnh.param<std::string>("frame_id", "slab");
+  const std::string parentFrame = pnh.param<std::string>("parent_frame", "world");
   const double rate = pnh.param("rate", 30.0);
   const double period = pnh.param("tap_period", 3.0);
   const int indentSteps = pnh.param("indent_steps", 6), dragSteps = pnh.param("drag_steps", 6);
@@ -94,6 +122,8 @@ int main(int argc, char** argv) {
   ros::Publisher statePub = nh.advertise<sensor_msgs::PointCloud2>("mesh_state", 2);
   ros::Publisher contactsPub = nh.advertise<de::ToolContactArray>("contacts", 2);
   restPub.publish(de::ros_layer::messageFromTriangleMesh(rest, header));
+  tf2_ros::StaticTransformBroadcaster frames;
+  if (!parentFrame.empty() && parentFrame != frame) frames.sendTransform(frameTransform(parentFrame, header));
   ROS_INFO("demo scene %s: %ld surface vertices; coarse SNH paths of %zu taps solved; one tap every %.1f s",
            sceneName.c_str(), static_cast<long>(rest.numVertices()), taps.size(), period);
 
@@ -113,17 +143,7 @@ int main(int argc, char** argv) {
     if (s > 0.0) {
       // The tool tip: where the tool has moved the surface point it touches.
       const Eigen::Vector3d tip = tap.toolPath.contact + (1.0 - f) * tap.tool[static_cast<std::size_t>(k)] + f * tap.tool[static_cast<std::size_t>(k + 1)];
-      de::ToolContact contact;
-      contact.header = header;
-      contact.tool_id = "demo_tool";
-      contact.in_contact = true;
-      contact.position.x = tip.x();
-      contact.position.y = tip.y();
-      contact.position.z = tip.z();
-      contact.normal.x = -tap.toolPath.inward.x();
-      contact.normal.y = -tap.toolPath.inward.y();
-      contact.normal.z = -tap.toolPath.inward.z();
-      contacts.contacts.push_back(contact);
+      contacts.contacts.push_back(toolContact(header, tip, tap.toolPath.inward));
     }
     contactsPub.publish(contacts);
     statePub.publish(de::ros_layer::cloudFromPositions(positions.cast<float>(), header));

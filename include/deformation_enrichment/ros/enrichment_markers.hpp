@@ -1,6 +1,8 @@
 #pragma once
 // rviz markers of the enrichment: the enriched surface coloured by the displacement the enrichment
-// added, and the tool contacts with their normals.
+// added and shaded, optionally the coarse input surface beside it, a colour bar of the scale, and the
+// tool contacts with their normals.
+#include <ros/node_handle.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include <Eigen/Core>
@@ -13,9 +15,17 @@ namespace deformation_enrichment::ros_layer {
 
 struct MarkerOptions {
   int maxTriangles = 50000;           ///< larger surfaces are decimated (every k-th triangle) for rviz
-  double displacementScale = 0.002;   ///< added displacement [m] shown as full red
+  double displacementScale = 0.0015;  ///< added displacement [m] shown as full red
+  /// Where the coarse input surface is drawn relative to the enriched one [m]; zero: not drawn.
+  Eigen::Vector3d coarseOffset = Eigen::Vector3d::Zero();
 };
 
+/// The options from ~marker_max_triangles, ~marker_displacement_scale and ~marker_coarse_offset ([x, y, z];
+/// anything else is reported and leaves the coarse surface off).
+MarkerOptions markerOptionsFromParams(const ros::NodeHandle& privateNh);
+
+/// Namespaces: enriched_surface, coarse_surface (when options.coarseOffset is not zero), colour_bar,
+/// contacts, contact_normals; the enriched surface's triangle list is the first marker.
 visualization_msgs::MarkerArray enrichmentMarkers(const std_msgs::Header& header, const mesh::TriangleMesh& rest,
                                                   const Eigen::Matrix3Xf& input, const Eigen::Matrix3Xf& enriched,
                                                   const std::vector<TrackedContact>& contacts,

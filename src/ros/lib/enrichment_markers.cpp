@@ -1,21 +1,49 @@
 #include "deformation_enrichment/ros/enrichment_markers.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <string>
 
 namespace deformation_enrichment::ros_layer {
 namespace {
 
-std_msgs::ColorRGBA heatColor(double t) {  // 0 -> grey-blue, 1 -> red
-  t = std::clamp(t, 0.0, 1.0);
+// rviz draws a TRIANGLE_LIST with per-vertex colours unlit (its material turns lighting off then) and
+// without them lights it with one normal per face, so the surfaces would look flat either way. The
+// shading is therefore baked into the colours: a Lambert term of the smooth vertex normals under a fixed
+// light from -y (the left of the demo's camera) only 22 degrees above the surface, bright enough that the
+// flat top keeps ~3/4 of its colour. The enrichment's rim (~1 mm high on a 3 mm dent) has slopes of ~15
+// degrees: lit from higher up they would differ from the flat top by a few percent only.
+const Eigen::Vector3d kTowardLight = Eigen::Vector3d(0.35, -0.86, 0.375).normalized();
+constexpr double kAmbient = 0.25, kLight = 1.4;
+constexpr double kTextHeight = 0.006;  // [m]
+
+double shade(const Eigen::Vector3d& normal) { return std::min(1.0, kAmbient + kLight * std::max(0.0, normal.dot(kTowardLight))); }
+
+std_msgs::ColorRGBA rgb(double r, double g, double b) {
   std_msgs::ColorRGBA color;
-  color.r = static_cast<float>(0.55 + 0.45 * t);
-  color.g = static_cast<float>(0.6 * (1.0 - t));
-  color.b = static_cast<float>(0.75 * (1.0 - t));
+  color.r = static_cast<float>(r);
+  color.g = static_cast<float>(g);
+  color.b = static_cast<float>(b);
   color.a = 1.0f;
   return color;
 }
 
-geometry_msgs::Point point(const Eigen::Vector3f& p) {
+std_msgs::ColorRGBA shaded(std_msgs::ColorRGBA color, double s) {
+  color.r = static_cast<float>(color.r * s);
+  color.g = static_cast<float>(color.g * s);
+  color.b = static_cast<float>(color.b * s);
+  return color;
+}
+
+// 0 -> grey-blue, 1 -> red; affine in t, so colours interpolated over a triangle stay on the scale.
+std_msgs::ColorRGBA heatColor(double t) {
+  t = std::clamp(t, 0.0, 1.0);
+  return rgb(0.55 + 0.45 * t, 0.6 * (1.0 - t), 0.75 * (1.0 - t));
+}
+
+geometry_msgs::Point point(const Eigen::Vector3d& p) {
   geometry_msgs::Point result;
   result.x = p.x();
   result.y = p.y();
@@ -23,59 +51,125 @@ geometry_msgs::Point point(const Eigen::Vector3f& p) {
   return result;
 }
 
+visualization_msgs::Marker marker(const std_msgs::Header& header, const std::string& ns, int id, int type) {
+  visualization_msgs::Marker m;
+  m.header = header;
+  m.ns = ns;
+  m.id = id;
+  m.type = type;
+  m.action = visualization_msgs::Marker::ADD;
+  m.pose.orientation.w = 1.0;
+  m.scale.x = m.scale.y = m.scale.z = 1.0;
+  return m;
+}
+
+visualization_msgs::Marker text(const std_msgs::Header& header, const std::string& ns, int id,
+                                const Eigen::Vector3d& at, const std::string& label) {
+  visualization_msgs::Marker m = marker(header, ns, id, visualization_msgs::Marker::TEXT_VIEW_FACING);
+  m.pose.position = point(at);
+  m.scale.x = m.scale.y = m.scale.z = kTextHeight;
+  m.color = rgb(1.0, 1.0, 1.0);
+  m.text = label;
+  return m;
+}
+
+// The surface at `positions` (+ offset), every stride-th triangle, each vertex's colour shaded by its normal.
+visualization_msgs::Marker surface(const std_msgs::Header& header, const std::string& ns, const mesh::TriangleMesh& rest,
+                                   const Eigen::Matrix3Xf& positions, const Eigen::Vector3d& offset, Eigen::Index stride,
+                                   const std::function<std_msgs::ColorRGBA(int)>& colorOf) {
+  const mesh::TriangleMesh deformed{positions.cast<double>(), rest.triangles};
+  const Eigen::Matrix3Xd normals = mesh::vertexNormals(deformed);
+  visualization_msgs::Marker m = marker(header, ns, 0, visualization_msgs::Marker::TRIANGLE_LIST);
+  for (Eigen::Index t = 0; t < rest.numTriangles(); t += stride) {
+    for (int k = 0; k < 3; ++k) {
+      const int v = rest.triangles(k, t);
+      m.points.push_back(point(deformed.vertices.col(v) + offset));
+      m.colors.push_back(shaded(colorOf(v), shade(normals.col(v))));
+    }
+  }
+  return m;
+}
+
+// An upright bar right of the surface (+y) in the y-z plane: one quad, bottom the colour of no added
+// displacement, top of full scale, both shaded like the undeformed top face (normal +z) so that they are
+// the colours seen there.
+void addColourBar(visualization_msgs::MarkerArray& array, const std_msgs::Header& header, const Eigen::Vector3d& low,
+                  const Eigen::Vector3d& high, double scale) {
+  const double flat = shade(Eigen::Vector3d::UnitZ());
+  const double x = 0.5 * (low.x() + high.x()), y0 = high.y() + 0.006, y1 = y0 + 0.008;
+  const double z0 = high.z(), z1 = high.z() + 0.03;  // above the top, so that the surface hides none of it
+  visualization_msgs::Marker bar = marker(header, "colour_bar", 0, visualization_msgs::Marker::TRIANGLE_LIST);
+  const Eigen::Vector3d corners[4] = {{x, y0, z0}, {x, y1, z0}, {x, y1, z1}, {x, y0, z1}};
+  for (int c : {0, 1, 2, 0, 2, 3}) {
+    bar.points.push_back(point(corners[c]));
+    bar.colors.push_back(shaded(heatColor(c < 2 ? 0.0 : 1.0), flat));
+  }
+  array.markers.push_back(bar);
+  char full[32];
+  std::snprintf(full, sizeof full, "%.3g mm", 1e3 * scale);
+  array.markers.push_back(text(header, "colour_bar", 1, {x, y1 + 0.01, z0}, "0 mm"));
+  array.markers.push_back(text(header, "colour_bar", 2, {x, y1 + 0.01, z1}, full));
+  array.markers.push_back(text(header, "colour_bar", 3, {x, y0, z1 + 0.008}, "added displacement"));
+}
+
+void addContacts(visualization_msgs::MarkerArray& array, const std_msgs::Header& header,
+                 const std::vector<TrackedContact>& contacts) {
+  const auto action = contacts.empty() ? visualization_msgs::Marker::DELETE : visualization_msgs::Marker::ADD;
+  visualization_msgs::Marker points = marker(header, "contacts", 0, visualization_msgs::Marker::SPHERE_LIST);
+  points.action = action;
+  points.scale.x = points.scale.y = points.scale.z = 0.003;
+  points.color = rgb(0.0, 1.0, 0.0);
+  for (const auto& contact : contacts) points.points.push_back(point(contact.position));
+  array.markers.push_back(points);
+
+  visualization_msgs::Marker normals = marker(header, "contact_normals", 0, visualization_msgs::Marker::LINE_LIST);
+  normals.action = action;
+  normals.scale.x = 0.0005;
+  normals.color = rgb(0.0, 1.0, 1.0);
+  for (const auto& contact : contacts) {
+    normals.points.push_back(point(contact.position));
+    normals.points.push_back(point(contact.position + 0.01 * contact.normal));
+  }
+  array.markers.push_back(normals);
+}
+
 }  // namespace
+
+MarkerOptions markerOptionsFromParams(const ros::NodeHandle& privateNh) {
+  MarkerOptions options;
+  options.maxTriangles = privateNh.param("marker_max_triangles", options.maxTriangles);
+  options.displacementScale = privateNh.param("marker_displacement_scale", options.displacementScale);
+  std::vector<double> offset;
+  if (privateNh.getParam("marker_coarse_offset", offset)) {
+    if (offset.size() == 3 && std::all_of(offset.begin(), offset.end(), [](double v) { return std::isfinite(v); }))
+      options.coarseOffset = Eigen::Vector3d(offset[0], offset[1], offset[2]);
+    else
+      ROS_ERROR("~marker_coarse_offset must be [x, y, z] in metres (finite); not drawing the coarse surface");
+  }
+  return options;
+}
 
 visualization_msgs::MarkerArray enrichmentMarkers(const std_msgs::Header& header, const mesh::TriangleMesh& rest,
                                                   const Eigen::Matrix3Xf& input, const Eigen::Matrix3Xf& enriched,
                                                   const std::vector<TrackedContact>& contacts,
                                                   const MarkerOptions& options) {
   visualization_msgs::MarkerArray array;
-  visualization_msgs::Marker surface;
-  surface.header = header;
-  surface.ns = "enriched_surface";
-  surface.type = visualization_msgs::Marker::TRIANGLE_LIST;
-  surface.action = visualization_msgs::Marker::ADD;
-  surface.pose.orientation.w = 1.0;
-  surface.scale.x = surface.scale.y = surface.scale.z = 1.0;
   const Eigen::VectorXf added = (enriched - input).colwise().norm();
   const Eigen::Index stride = std::max<Eigen::Index>(1, (rest.numTriangles() + options.maxTriangles - 1) /
                                                             std::max(1, options.maxTriangles));
-  for (Eigen::Index t = 0; t < rest.numTriangles(); t += stride) {
-    for (int k = 0; k < 3; ++k) {
-      const int v = rest.triangles(k, t);
-      surface.points.push_back(point(enriched.col(v)));
-      surface.colors.push_back(heatColor(added[v] / options.displacementScale));
-    }
+  array.markers.push_back(surface(header, "enriched_surface", rest, enriched, Eigen::Vector3d::Zero(), stride,
+                                  [&](int v) { return heatColor(added[v] / options.displacementScale); }));
+  // Labels above each surface's far edge (-x, away from the demo's camera).
+  const Eigen::Vector3d low = rest.vertices.rowwise().minCoeff(), high = rest.vertices.rowwise().maxCoeff();
+  const Eigen::Vector3d labelAt(low.x(), 0.5 * (low.y() + high.y()), high.z() + 0.01);
+  array.markers.push_back(text(header, "enriched_surface", 1, labelAt, "enriched"));
+  if (!options.coarseOffset.isZero()) {
+    array.markers.push_back(surface(header, "coarse_surface", rest, input, options.coarseOffset, stride,
+                                    [](int) { return rgb(0.7, 0.7, 0.7); }));
+    array.markers.push_back(text(header, "coarse_surface", 1, labelAt + options.coarseOffset, "coarse input"));
   }
-  array.markers.push_back(surface);
-
-  visualization_msgs::Marker points;
-  points.header = header;
-  points.ns = "contacts";
-  points.type = visualization_msgs::Marker::SPHERE_LIST;
-  points.action = contacts.empty() ? visualization_msgs::Marker::DELETE : visualization_msgs::Marker::ADD;
-  points.pose.orientation.w = 1.0;
-  points.scale.x = points.scale.y = points.scale.z = 0.003;
-  points.color.g = 1.0f;
-  points.color.a = 1.0f;
-  for (const auto& contact : contacts) points.points.push_back(point(contact.position.cast<float>()));
-  array.markers.push_back(points);
-
-  visualization_msgs::Marker normals;
-  normals.header = header;
-  normals.ns = "contact_normals";
-  normals.type = visualization_msgs::Marker::LINE_LIST;
-  normals.action = points.action;
-  normals.pose.orientation.w = 1.0;
-  normals.scale.x = 0.0005;
-  normals.color.g = 1.0f;
-  normals.color.b = 1.0f;
-  normals.color.a = 1.0f;
-  for (const auto& contact : contacts) {
-    normals.points.push_back(point(contact.position.cast<float>()));
-    normals.points.push_back(point((contact.position + 0.01 * contact.normal).cast<float>()));
-  }
-  array.markers.push_back(normals);
+  addColourBar(array, header, low, high, options.displacementScale);
+  addContacts(array, header, contacts);
   return array;
 }
 

@@ -20,8 +20,7 @@ EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
       diagnostics_(nh, privateNh) {
   errorThrottle_ = privateNh_.param("error_throttle", 1.0);
   toolContactDistance_ = privateNh_.param("tool_contact_distance", 0.003);
-  markerOptions_.maxTriangles = privateNh_.param("marker_max_triangles", 50000);
-  markerOptions_.displacementScale = privateNh_.param("marker_displacement_scale", 0.0015);
+  markerOptions_ = markerOptionsFromParams(privateNh_);
   segmentation_.scale = privateNh_.param("descriptor_scale", 0.005);
   segmentation_.sampleSpacing = privateNh_.param("segmentation_sample_spacing", 0.0);
   // Start-up values of the run-time knobs; the reconfigure server reads the same parameters.

@@ -1,0 +1,100 @@
+// The rviz markers of the enrichment without the node: the coarse surface beside the enriched one, the
+// colour bar's ends against the surface's colours, and the marker parameters. Linked into
+// test_enrichment_knobs (the parameter test needs its master).
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "deformation_enrichment/ros/enrichment_markers.hpp"
+
+namespace de = deformation_enrichment;
+
+namespace {
+
+// A flat 1 cm square at z = 0, counter-clockwise seen from above (normal +z, like the slab's top).
+de::mesh::TriangleMesh flatSquare() {
+  de::mesh::TriangleMesh square;
+  square.vertices.resize(3, 4);
+  square.vertices << 0, 0.01, 0.01, 0, 0, 0, 0.01, 0.01, 0, 0, 0, 0;
+  square.triangles.resize(3, 2);
+  square.triangles << 0, 0, 1, 2, 2, 3;
+  return square;
+}
+
+const visualization_msgs::Marker* find(const visualization_msgs::MarkerArray& array, const std::string& ns, int id) {
+  for (const auto& marker : array.markers)
+    if (marker.ns == ns && marker.id == id) return &marker;
+  return nullptr;
+}
+
+void expectSameColor(const std_msgs::ColorRGBA& a, const std_msgs::ColorRGBA& b) {
+  EXPECT_NEAR(a.r, b.r, 1e-5);
+  EXPECT_NEAR(a.g, b.g, 1e-5);
+  EXPECT_NEAR(a.b, b.b, 1e-5);
+  EXPECT_FLOAT_EQ(a.a, b.a);
+}
+
+// The colour bar's colour at its bottom (lowest z) or top end.
+std_msgs::ColorRGBA barEnd(const visualization_msgs::Marker& bar, bool top) {
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < bar.points.size(); ++i)
+    if (top ? bar.points[i].z > bar.points[best].z : bar.points[i].z < bar.points[best].z) best = i;
+  return bar.colors[best];
+}
+
+TEST(EnrichmentMarkers, CoarseSurfaceBesideTheEnrichedOneAndColourBarEndsMatchTheSurface) {
+  const de::mesh::TriangleMesh rest = flatSquare();
+  const Eigen::Matrix3Xf input = rest.vertices.cast<float>();
+  de::ros_layer::MarkerOptions options;
+  options.coarseOffset = Eigen::Vector3d(0.0, -0.11, 0.0);
+  std_msgs::Header header;
+  header.frame_id = "slab";
+  for (const double added : {0.0, options.displacementScale}) {
+    // A uniform lift keeps the square flat: every vertex shows the colour of `added` on the flat top.
+    const Eigen::Matrix3Xf enriched = input.colwise() + Eigen::Vector3f(0.0f, 0.0f, static_cast<float>(added));
+    const auto array = de::ros_layer::enrichmentMarkers(header, rest, input, enriched, {}, options);
+    ASSERT_FALSE(array.markers.empty());
+    const auto& surface = array.markers[0];
+    EXPECT_EQ(surface.ns, "enriched_surface");
+    ASSERT_EQ(surface.points.size(), 6u);
+    ASSERT_EQ(surface.colors.size(), 6u);
+    const auto* coarse = find(array, "coarse_surface", 0);
+    ASSERT_NE(coarse, nullptr);
+    EXPECT_EQ(coarse->type, visualization_msgs::Marker::TRIANGLE_LIST);
+    ASSERT_EQ(coarse->points.size(), surface.points.size());
+    for (std::size_t i = 0; i < coarse->points.size(); ++i) {
+      const int v = rest.triangles(static_cast<int>(i % 3), static_cast<int>(i / 3));
+      EXPECT_NEAR(coarse->points[i].x, input(0, v) + options.coarseOffset.x(), 1e-7);
+      EXPECT_NEAR(coarse->points[i].y, input(1, v) + options.coarseOffset.y(), 1e-7);
+      EXPECT_NEAR(coarse->points[i].z, input(2, v) + options.coarseOffset.z(), 1e-7);
+    }
+    const auto* bar = find(array, "colour_bar", 0);
+    ASSERT_NE(bar, nullptr);
+    ASSERT_EQ(bar->colors.size(), bar->points.size());
+    for (const auto& color : surface.colors) expectSameColor(color, barEnd(*bar, /*top=*/added > 0.0));
+    EXPECT_EQ(bar->header.frame_id, "slab");
+  }
+}
+
+TEST(EnrichmentMarkers, NoCoarseSurfaceWithoutAnOffset) {
+  const de::mesh::TriangleMesh rest = flatSquare();
+  const Eigen::Matrix3Xf input = rest.vertices.cast<float>();
+  const auto array = de::ros_layer::enrichmentMarkers({}, rest, input, input, {}, de::ros_layer::MarkerOptions());
+  EXPECT_EQ(find(array, "coarse_surface", 0), nullptr);
+  EXPECT_NE(find(array, "colour_bar", 0), nullptr);
+}
+
+TEST(EnrichmentMarkers, CoarseOffsetParameterIsAVectorOfThreeElseOff) {
+  ros::NodeHandle nh("marker_options_test");
+  nh.setParam("marker_coarse_offset", std::vector<double>{0.0, -0.11, 0.01});
+  EXPECT_TRUE(de::ros_layer::markerOptionsFromParams(nh).coarseOffset.isApprox(Eigen::Vector3d(0.0, -0.11, 0.01)));
+  nh.setParam("marker_coarse_offset", std::vector<double>{0.1, 0.2});
+  EXPECT_TRUE(de::ros_layer::markerOptionsFromParams(nh).coarseOffset.isZero());
+  nh.deleteParam("marker_coarse_offset");
+  EXPECT_TRUE(de::ros_layer::markerOptionsFromParams(nh).coarseOffset.isZero());
+}
+
+}  // namespace
