@@ -1,5 +1,5 @@
 // The rviz markers of the enrichment without the node: the coarse surface beside the enriched one, the
-// colour bar's ends against the surface's colours, and the marker parameters. Linked into
+// colour bar's ends against the surface's colours, strain colours, and the marker parameters. Linked into
 // test_enrichment_knobs (the parameter test needs its master).
 #include <gtest/gtest.h>
 #include <ros/ros.h>
@@ -87,6 +87,38 @@ TEST(EnrichmentMarkers, NoCoarseSurfaceWithoutAnOffset) {
   EXPECT_NE(find(array, "colour_bar", 0), nullptr);
 }
 
+TEST(EnrichmentMarkers, StrainColoursShowEachTrianglesLargestPrincipalStrain) {
+  const de::mesh::TriangleMesh rest = flatSquare();
+  const Eigen::Matrix3Xf input = rest.vertices.cast<float>();
+  de::ros_layer::MarkerOptions options;
+  options.color = de::ros_layer::MarkerOptions::Color::Strain;
+  options.strainScale = 0.1;
+  // Stretched 5 % along x and compressed 3 % along y, rotated and lifted (no strain): both triangles have
+  // the largest principal strain 0.05, half the scale: the colour bar's middle.
+  Eigen::Matrix3f deform = Eigen::AngleAxisf(0.4f, Eigen::Vector3f(1, 2, 3).normalized()).toRotationMatrix();
+  deform = deform * Eigen::Vector3f(1.05f, 0.97f, 1.0f).asDiagonal();
+  const Eigen::Matrix3Xf enriched = (deform * input).colwise() + Eigen::Vector3f(0.0f, 0.0f, 0.001f);
+  const auto stretched = de::ros_layer::enrichmentMarkers({}, rest, input, enriched, {}, options);
+  const auto unstrained = de::ros_layer::enrichmentMarkers({}, rest, input, input, {}, options);
+  const auto* bar = find(unstrained, "colour_bar", 0);
+  ASSERT_NE(bar, nullptr);
+  const std_msgs::ColorRGBA zero = barEnd(*bar, false), full = barEnd(*bar, true);
+  ASSERT_EQ(unstrained.markers[0].colors.size(), 6u);
+  for (const auto& color : unstrained.markers[0].colors) expectSameColor(color, zero);
+  // The rotated square is lit differently; its colour relative to the flat one's scale is the same.
+  const auto& colors = stretched.markers[0].colors;
+  ASSERT_EQ(colors.size(), 6u);
+  const double light = colors[0].g / (0.5 * (zero.g + full.g));
+  for (const auto& color : colors) {
+    EXPECT_NEAR(color.r, light * 0.5 * (zero.r + full.r), 1e-4);
+    EXPECT_NEAR(color.b, light * 0.5 * (zero.b + full.b), 1e-4);
+  }
+  const auto* title = find(stretched, "colour_bar", 3);
+  ASSERT_NE(title, nullptr);
+  EXPECT_EQ(title->text, "principal strain");
+  EXPECT_EQ(find(stretched, "colour_bar", 2)->text, "10 %");
+}
+
 TEST(EnrichmentMarkers, CoarseOffsetParameterIsAVectorOfThreeElseOff) {
   ros::NodeHandle nh("marker_options_test");
   nh.setParam("marker_coarse_offset", std::vector<double>{0.0, -0.11, 0.01});
@@ -95,6 +127,11 @@ TEST(EnrichmentMarkers, CoarseOffsetParameterIsAVectorOfThreeElseOff) {
   EXPECT_TRUE(de::ros_layer::markerOptionsFromParams(nh).coarseOffset.isZero());
   nh.deleteParam("marker_coarse_offset");
   EXPECT_TRUE(de::ros_layer::markerOptionsFromParams(nh).coarseOffset.isZero());
+  EXPECT_EQ(de::ros_layer::markerOptionsFromParams(nh).color, de::ros_layer::MarkerOptions::Color::Displacement);
+  nh.setParam("marker_color", "strain");
+  EXPECT_EQ(de::ros_layer::markerOptionsFromParams(nh).color, de::ros_layer::MarkerOptions::Color::Strain);
+  nh.setParam("marker_color", "pressure");
+  EXPECT_EQ(de::ros_layer::markerOptionsFromParams(nh).color, de::ros_layer::MarkerOptions::Color::Displacement);
 }
 
 }  // namespace

@@ -14,18 +14,25 @@
 namespace deformation_enrichment::ros_layer {
 
 struct MarkerOptions {
+  /// What the enriched surface's colour shows: the displacement the enrichment added (per vertex), or the
+  /// strain of the enriched state, the largest |principal stretch - 1| of each triangle (seed 003).
+  enum class Color { Displacement, Strain };
   int maxTriangles = 50000;           ///< larger surfaces are decimated (every k-th triangle) for rviz
+  Color color = Color::Displacement;
   double displacementScale = 0.0015;  ///< added displacement [m] shown as full red
+  double strainScale = 0.1;           ///< strain shown as full red (0.1 = 10 %)
   /// Where the coarse input surface is drawn relative to the enriched one [m]; zero: not drawn.
   Eigen::Vector3d coarseOffset = Eigen::Vector3d::Zero();
 };
 
-/// The options from ~marker_max_triangles, ~marker_displacement_scale and ~marker_coarse_offset ([x, y, z];
-/// anything else is reported and leaves the coarse surface off).
+/// The options from ~marker_max_triangles, ~marker_color (displacement | strain; anything else is reported
+/// and displacement used), ~marker_displacement_scale, ~marker_strain_scale and ~marker_coarse_offset
+/// ([x, y, z]; anything else is reported and leaves the coarse surface off).
 MarkerOptions markerOptionsFromParams(const ros::NodeHandle& privateNh);
 
 /// Namespaces: enriched_surface, coarse_surface (when options.coarseOffset is not zero), colour_bar,
-/// contacts, contact_normals; the enriched surface's triangle list is the first marker.
+/// contacts, contact_normals; the enriched surface's triangle list is the first marker. With strain colours
+/// and a rest triangle too degenerate for a deformation gradient, the displacement is shown instead (logged).
 visualization_msgs::MarkerArray enrichmentMarkers(const std_msgs::Header& header, const mesh::TriangleMesh& rest,
                                                   const Eigen::Matrix3Xf& input, const Eigen::Matrix3Xf& enriched,
                                                   const std::vector<TrackedContact>& contacts,

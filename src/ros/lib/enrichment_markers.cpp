@@ -6,6 +6,9 @@
 #include <functional>
 #include <string>
 
+#include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/kinematics/triangle_deformation_gradient.hpp"
+
 namespace deformation_enrichment::ros_layer {
 namespace {
 
@@ -73,10 +76,11 @@ visualization_msgs::Marker text(const std_msgs::Header& header, const std::strin
   return m;
 }
 
-// The surface at `positions` (+ offset), every stride-th triangle, each vertex's colour shaded by its normal.
+// The surface at `positions` (+ offset), every stride-th triangle, the colour of each triangle's corner
+// (colorOf(triangle, vertex)) shaded by the vertex normal.
 visualization_msgs::Marker surface(const std_msgs::Header& header, const std::string& ns, const mesh::TriangleMesh& rest,
                                    const Eigen::Matrix3Xf& positions, const Eigen::Vector3d& offset, Eigen::Index stride,
-                                   const std::function<std_msgs::ColorRGBA(int)>& colorOf) {
+                                   const std::function<std_msgs::ColorRGBA(Eigen::Index, int)>& colorOf) {
   const mesh::TriangleMesh deformed{positions.cast<double>(), rest.triangles};
   const Eigen::Matrix3Xd normals = mesh::vertexNormals(deformed);
   visualization_msgs::Marker m = marker(header, ns, 0, visualization_msgs::Marker::TRIANGLE_LIST);
@@ -84,7 +88,7 @@ visualization_msgs::Marker surface(const std_msgs::Header& header, const std::st
     for (int k = 0; k < 3; ++k) {
       const int v = rest.triangles(k, t);
       m.points.push_back(point(deformed.vertices.col(v) + offset));
-      m.colors.push_back(shaded(colorOf(v), shade(normals.col(v))));
+      m.colors.push_back(shaded(colorOf(t, v), shade(normals.col(v))));
     }
   }
   return m;
@@ -94,7 +98,8 @@ visualization_msgs::Marker surface(const std_msgs::Header& header, const std::st
 // displacement, top of full scale, both shaded like the undeformed top face (normal +z) so that they are
 // the colours seen there.
 void addColourBar(visualization_msgs::MarkerArray& array, const std_msgs::Header& header, const Eigen::Vector3d& low,
-                  const Eigen::Vector3d& high, double scale) {
+                  const Eigen::Vector3d& high, const std::string& title, const std::string& fullScale,
+                  const std::string& zero) {
   const double flat = shade(Eigen::Vector3d::UnitZ());
   const double x = 0.5 * (low.x() + high.x()), y0 = high.y() + 0.006, y1 = y0 + 0.008;
   const double z0 = high.z(), z1 = high.z() + 0.03;  // above the top, so that the surface hides none of it
@@ -105,11 +110,9 @@ void addColourBar(visualization_msgs::MarkerArray& array, const std_msgs::Header
     bar.colors.push_back(shaded(heatColor(c < 2 ? 0.0 : 1.0), flat));
   }
   array.markers.push_back(bar);
-  char full[32];
-  std::snprintf(full, sizeof full, "%.3g mm", 1e3 * scale);
-  array.markers.push_back(text(header, "colour_bar", 1, {x, y1 + 0.01, z0}, "0 mm"));
-  array.markers.push_back(text(header, "colour_bar", 2, {x, y1 + 0.01, z1}, full));
-  array.markers.push_back(text(header, "colour_bar", 3, {x, y0, z1 + 0.008}, "added displacement"));
+  array.markers.push_back(text(header, "colour_bar", 1, {x, y1 + 0.01, z0}, zero));
+  array.markers.push_back(text(header, "colour_bar", 2, {x, y1 + 0.01, z1}, fullScale));
+  array.markers.push_back(text(header, "colour_bar", 3, {x, y0, z1 + 0.008}, title));
 }
 
 void addContacts(visualization_msgs::MarkerArray& array, const std_msgs::Header& header,
@@ -133,12 +136,35 @@ void addContacts(visualization_msgs::MarkerArray& array, const std_msgs::Header&
   array.markers.push_back(normals);
 }
 
+// The largest |principal stretch - 1| of each triangle of `positions` against `rest`; empty when a rest
+// triangle is too degenerate for a deformation gradient (logged).
+Eigen::VectorXd triangleStrain(const mesh::TriangleMesh& rest, const Eigen::Matrix3Xf& positions) {
+  try {
+    const Eigen::Matrix2Xd stretches = kinematics::principalStretches(rest, {positions.cast<double>(), rest.triangles});
+    return (stretches.array() - 1.0).abs().colwise().maxCoeff().transpose();
+  } catch (const Error& e) {
+    ROS_ERROR_THROTTLE(10.0, "strain colours unavailable, showing the added displacement: %s", e.what());
+    return {};
+  }
+}
+
+std::string formatted(const char* format, double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, format, value);
+  return text;
+}
+
 }  // namespace
 
 MarkerOptions markerOptionsFromParams(const ros::NodeHandle& privateNh) {
   MarkerOptions options;
   options.maxTriangles = privateNh.param("marker_max_triangles", options.maxTriangles);
   options.displacementScale = privateNh.param("marker_displacement_scale", options.displacementScale);
+  options.strainScale = privateNh.param("marker_strain_scale", options.strainScale);
+  const std::string color = privateNh.param<std::string>("marker_color", "displacement");
+  if (color == "strain") options.color = MarkerOptions::Color::Strain;
+  else if (color != "displacement")
+    ROS_ERROR("~marker_color '%s' is neither 'displacement' nor 'strain': showing the displacement", color.c_str());
   std::vector<double> offset;
   if (privateNh.getParam("marker_coarse_offset", offset)) {
     if (offset.size() == 3 && std::all_of(offset.begin(), offset.end(), [](double v) { return std::isfinite(v); }))
@@ -157,18 +183,28 @@ visualization_msgs::MarkerArray enrichmentMarkers(const std_msgs::Header& header
   const Eigen::VectorXf added = (enriched - input).colwise().norm();
   const Eigen::Index stride = std::max<Eigen::Index>(1, (rest.numTriangles() + options.maxTriangles - 1) /
                                                             std::max(1, options.maxTriangles));
-  array.markers.push_back(surface(header, "enriched_surface", rest, enriched, Eigen::Vector3d::Zero(), stride,
-                                  [&](int v) { return heatColor(added[v] / options.displacementScale); }));
+  const Eigen::VectorXd strain =
+      options.color == MarkerOptions::Color::Strain ? triangleStrain(rest, enriched) : Eigen::VectorXd();
+  if (strain.size() > 0) {
+    array.markers.push_back(surface(header, "enriched_surface", rest, enriched, Eigen::Vector3d::Zero(), stride,
+                                    [&](Eigen::Index t, int) { return heatColor(strain[t] / options.strainScale); }));
+  } else {
+    array.markers.push_back(surface(header, "enriched_surface", rest, enriched, Eigen::Vector3d::Zero(), stride,
+                                    [&](Eigen::Index, int v) { return heatColor(added[v] / options.displacementScale); }));
+  }
   // Labels above each surface's far edge (-x, away from the demo's camera).
   const Eigen::Vector3d low = rest.vertices.rowwise().minCoeff(), high = rest.vertices.rowwise().maxCoeff();
   const Eigen::Vector3d labelAt(low.x(), 0.5 * (low.y() + high.y()), high.z() + 0.01);
   array.markers.push_back(text(header, "enriched_surface", 1, labelAt, "enriched"));
   if (!options.coarseOffset.isZero()) {
     array.markers.push_back(surface(header, "coarse_surface", rest, input, options.coarseOffset, stride,
-                                    [](int) { return rgb(0.7, 0.7, 0.7); }));
+                                    [](Eigen::Index, int) { return rgb(0.7, 0.7, 0.7); }));
     array.markers.push_back(text(header, "coarse_surface", 1, labelAt + options.coarseOffset, "coarse input"));
   }
-  addColourBar(array, header, low, high, options.displacementScale);
+  if (strain.size() > 0)
+    addColourBar(array, header, low, high, "principal strain", formatted("%.3g %%", 100.0 * options.strainScale), "0 %");
+  else
+    addColourBar(array, header, low, high, "added displacement", formatted("%.3g mm", 1e3 * options.displacementScale), "0 mm");
   addContacts(array, header, contacts);
   return array;
 }
