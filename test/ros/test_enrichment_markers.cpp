@@ -5,6 +5,7 @@
 #include <ros/ros.h>
 
 #include <Eigen/Core>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -132,6 +133,11 @@ TEST(EnrichmentMarkers, CoarseOffsetParameterIsAVectorOfThreeElseOff) {
   EXPECT_EQ(de::ros_layer::markerOptionsFromParams(nh).color, de::ros_layer::MarkerOptions::Color::Strain);
   nh.setParam("marker_color", "pressure");
   EXPECT_EQ(de::ros_layer::markerOptionsFromParams(nh).color, de::ros_layer::MarkerOptions::Color::Displacement);
+  nh.setParam("marker_strain_scale", 0.0);
+  nh.setParam("marker_displacement_scale", std::nan(""));
+  const auto fallback = de::ros_layer::markerOptionsFromParams(nh);
+  EXPECT_EQ(fallback.strainScale, de::ros_layer::MarkerOptions().strainScale) << "a zero scale would colour NaN";
+  EXPECT_EQ(fallback.displacementScale, de::ros_layer::MarkerOptions().displacementScale);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <functional>
 #include <string>
+#include <tuple>
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/kinematics/triangle_deformation_gradient.hpp"
@@ -161,6 +162,12 @@ MarkerOptions markerOptionsFromParams(const ros::NodeHandle& privateNh) {
   options.maxTriangles = privateNh.param("marker_max_triangles", options.maxTriangles);
   options.displacementScale = privateNh.param("marker_displacement_scale", options.displacementScale);
   options.strainScale = privateNh.param("marker_strain_scale", options.strainScale);
+  for (auto [name, scale, fallback] : {std::tuple{"marker_displacement_scale", &options.displacementScale, MarkerOptions().displacementScale},
+                                       std::tuple{"marker_strain_scale", &options.strainScale, MarkerOptions().strainScale}})
+    if (!(*scale > 0.0 && std::isfinite(*scale))) {
+      ROS_ERROR("~%s must be positive and finite, got %g: using %g", name, *scale, fallback);
+      *scale = fallback;
+    }
   const std::string color = privateNh.param<std::string>("marker_color", "displacement");
   if (color == "strain") options.color = MarkerOptions::Color::Strain;
   else if (color != "displacement")
