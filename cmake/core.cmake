@@ -4,9 +4,10 @@
 #
 #   deformation_enrichment_geometry     mesh, hermite, kinematics
 #   deformation_enrichment_descriptors  descriptors                 -> geometry
-#   deformation_enrichment_runtime      scene_file, examples, enrichment -> descriptors
-#   deformation_enrichment_simulation   elasticity, scenes, acquisition -> runtime (acquisition describes examples
-#                                       with the run-time code)
+#   deformation_enrichment_runtime      scene_file, scenes, examples, enrichment -> descriptors (the node reads
+#                                       a scene's surface and volume)
+#   deformation_enrichment_simulation   elasticity, acquisition -> runtime (acquisition describes examples with
+#                                       the run-time code)
 #   deformation_enrichment_shape_space  shape_space                 -> geometry
 #
 # Dependencies point one way: a layer links only the layers below it, so an include of a higher layer (the
@@ -25,8 +26,8 @@ set(DE_WARNINGS -Wall -Wextra)
 # Module folder -> library of its layer (read by de_link_core_for below).
 set(DE_LAYER_geometry mesh hermite kinematics)
 set(DE_LAYER_descriptors descriptors)
-set(DE_LAYER_runtime scene_file examples enrichment)
-set(DE_LAYER_simulation elasticity scenes acquisition)
+set(DE_LAYER_runtime scene_file scenes examples enrichment)
+set(DE_LAYER_simulation elasticity acquisition)
 set(DE_LAYER_shape_space shape_space)
 set(DE_LAYERS geometry descriptors runtime simulation shape_space)
 set(DE_CORE_LIBRARIES "")
@@ -72,7 +73,9 @@ target_link_libraries(deformation_enrichment_geometry PRIVATE VTK::CommonCore VT
 target_compile_definitions(deformation_enrichment_geometry PRIVATE CGAL_USE_ZLIB)
 de_add_layer(descriptors deformation_enrichment_geometry)
 de_add_layer(runtime deformation_enrichment_descriptors ${OpenCV_LIBS})
-target_link_libraries(deformation_enrichment_runtime PRIVATE yaml-cpp)
+# urdfdom parses tool tips from robot_description (enrichment/tool_tip.cpp).
+find_package(urdfdom REQUIRED)
+target_link_libraries(deformation_enrichment_runtime PRIVATE yaml-cpp urdfdom::urdfdom_model)
 # Shipped scenes (config/scenes/<name>.yaml): those the build generates (the liver) first, then the installed
 # share folder, then the source tree.
 set(DE_GENERATED_SCENE_DIR ${CMAKE_BINARY_DIR}/scenes)

@@ -94,7 +94,7 @@ if(CATKIN_ENABLE_TESTING)
     DEPENDS enrichment_node deformation_enrichment_nodelets)
   add_rostest(test/ros/enrichment_nodelet.test DEPENDENCIES test_enrichment_node)
   de_rostest_gtest(test_enrichment_knobs test/ros/enrichment_knobs.test
-    SOURCES test/ros/test_enrichment_knobs.cpp test/ros/test_tool_tip.cpp test/ros/test_tool_pose_sources.cpp
+    SOURCES test/ros/test_enrichment_knobs.cpp test/ros/test_tool_pose_sources.cpp
     test/ros/test_enrichment_markers.cpp DEPENDS enrichment_node deformation_enrichment_nodelets)
   add_rostest(test/ros/enrichment_knobs_nodelet.test DEPENDENCIES test_enrichment_knobs)
   add_rostest(test/ros/demo.test DEPENDENCIES ${DE_NODE_TARGETS})
@@ -120,6 +120,10 @@ if(CATKIN_ENABLE_TESTING)
   de_rostest_gtest(test_live_stream_node test/ros/live_stream.test SOURCES test/ros/test_live_stream_node.cpp
     test/accuracy/live_stream_scenario.hpp DEPENDS enrichment_node)
   set_tests_properties(_ctest_${PROJECT_NAME}_rostest_test_ros_live_stream.test PROPERTIES
+    FIXTURES_REQUIRED slab_set ENVIRONMENT DE_TEST_SLAB_SET=${DE_TEST_SLAB_SET})
+  de_rostest_gtest(test_open_surface_node test/ros/open_surface.test SOURCES test/ros/test_open_surface_node.cpp
+    DEPENDS enrichment_node)
+  set_tests_properties(_ctest_${PROJECT_NAME}_rostest_test_ros_open_surface.test PROPERTIES
     FIXTURES_REQUIRED slab_set ENVIRONMENT DE_TEST_SLAB_SET=${DE_TEST_SLAB_SET})
   de_rostest_gtest(test_shape_space_server test/ros/shape_space_server.test SOURCES test/ros/test_shape_space_server.cpp
     test/unit/shape_space/real_sequences.hpp

@@ -13,7 +13,7 @@
 #include "deformation_enrichment/mesh/barycentric_embedding.hpp"
 #include "deformation_enrichment/mesh/surface_projection.hpp"
 #include "deformation_enrichment/mesh/tet_surface.hpp"
-#include "deformation_enrichment/scenes/tool_loading.hpp"
+#include "deformation_enrichment/acquisition/tool_loading.hpp"
 
 namespace deformation_enrichment::acquisition {
 namespace {
@@ -74,7 +74,7 @@ double solvePath(const Body& body, const ToolPath& path, const SceneDescription&
   if (d.tool.model == ToolModel::Dirichlet) {
     tool = dirichletTool(scene, contact, d.tool.radius);
   } else {
-    springs = scenes::toolSprings(scene, contact, d.tool.radius, d.tool.stiffness);
+    springs = acquisition::toolSprings(scene, contact, d.tool.radius, d.tool.stiffness);
     springRest = springs.targets;
   }
   const double dragDistance = path.drag.norm();
@@ -86,13 +86,13 @@ double solvePath(const Body& body, const ToolPath& path, const SceneDescription&
   positions = scene.mesh.vertices;
   for (int step = 1; step <= indentSteps + dragSteps; ++step) {
     const Eigen::Vector3d u =
-        scenes::toolDisplacement(step, indentSteps, dragSteps, path.inward, path.depth, dragDirection, dragDistance);
+        acquisition::toolDisplacement(step, indentSteps, dragSteps, path.inward, path.depth, dragDirection, dragDistance);
     elasticity::SolveResult r;
     if (d.tool.model == ToolModel::Dirichlet) {
-      r = solver.solve(positions, scenes::toolConstraints(scene, tool, u));
+      r = solver.solve(positions, acquisition::toolConstraints(scene, tool, u));
     } else {
       springs.targets = springRest.colwise() + u;
-      r = solver.solve(positions, scenes::supportConstraints(scene), springs);
+      r = solver.solve(positions, acquisition::supportConstraints(scene), springs);
     }
     if (!r.converged()) {
       converged = false;

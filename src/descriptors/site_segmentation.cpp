@@ -132,4 +132,18 @@ SiteSegmentation segmentSites(const DescriptorEvaluator& evaluator, const KMeans
   return segmentation;
 }
 
+std::vector<int> segmentSurface(const mesh::TriangleMesh& rest, const mesh::TetMesh* volume, int regions, double scale,
+                                const SiteDensityOptions& density) {
+  if (!(scale > 0.0) || !std::isfinite(scale)) throw InvalidInputError("site segmentation: the window scale must be positive");
+  if (regions < 1 || regions > rest.numVertices())
+    throw InvalidInputError("site segmentation: regions must be in [1, " + std::to_string(rest.numVertices()) +
+                            "] (one per rest vertex at most), got " + std::to_string(regions));
+  DescriptorOptions options;
+  options.window.scale = scale;
+  DescriptorEvaluator evaluator(siteDensity(rest, volume, density).sampling, rest, {}, options);
+  KMeansOptions kmeans;
+  kmeans.clusters = regions;
+  return segmentSites(evaluator, kmeans).clusters.labels;
+}
+
 }  // namespace deformation_enrichment::descriptors

@@ -51,19 +51,24 @@ void checkOptions(const ContactEnricherOptions& o) {
 
 }  // namespace
 
-ContactEnricher::ContactEnricher(mesh::TriangleMesh restSurface, const ContactEnricherOptions& options)
+double siteSampleSpacing(const ContactEnricherOptions& options) {
+  return options.sampleSpacing > 0.0 ? options.sampleSpacing : options.descriptors.window.scale / 4.0;
+}
+
+ContactEnricher::ContactEnricher(mesh::TriangleMesh restSurface, const ContactEnricherOptions& options,
+                                 std::optional<descriptors::PointSampling> siteDensity)
     : options_(options),
       rest_(std::move(restSurface)),
-      mapper_((checkOptions(options), mesh::validate(rest_), rest_.vertices), options.rimBand, mesh::vertexNormals(rest_),
+      mapper_((checkOptions(options), mesh::validate(rest_, false), rest_.vertices), options.rimBand, mesh::vertexNormals(rest_),
               rest_.triangles) {
   restNormals_ = mesh::vertexNormals(rest_);
   vertexTriangles_.assign(static_cast<std::size_t>(rest_.vertices.cols()), {});
   for (Eigen::Index f = 0; f < rest_.triangles.cols(); ++f)
     for (int k = 0; k < 3; ++k) vertexTriangles_[static_cast<std::size_t>(rest_.triangles(k, f))].push_back(static_cast<int>(f));
-  const double spacing = options_.sampleSpacing > 0.0 ? options_.sampleSpacing : options_.descriptors.window.scale / 4.0;
-  // rho integrates the material's indicator (eq. 7): volume samples inside the closed rest surface.
-  siteEvaluator_ = std::make_unique<descriptors::DescriptorEvaluator>(
-      descriptors::sampleClosedSurfaceInterior(rest_, spacing), rest_, std::vector<int>(), options_.descriptors);
+  // rho integrates the material's indicator (eq. 7): volume samples of the material around the surface.
+  if (!siteDensity) siteDensity = descriptors::sampleClosedSurfaceInterior(rest_, siteSampleSpacing(options_));
+  siteEvaluator_ = std::make_unique<descriptors::DescriptorEvaluator>(std::move(*siteDensity), rest_, std::vector<int>(),
+                                                                      options_.descriptors);
   // mu is fitted on what the run time has: the surface vertices, weighted by their areas.
   surfaceSampling_ = std::make_unique<descriptors::PointSampling>(rest_.vertices, vertexAreas(rest_));
   siteCache_.assign(static_cast<std::size_t>(rest_.vertices.cols()), std::nullopt);

@@ -16,7 +16,7 @@
 #include "deformation_enrichment/acquisition/scene_acquisition.hpp"
 #include "deformation_enrichment/examples/example_set_io.hpp"
 #include "deformation_enrichment/ros/conversions.hpp"
-#include "deformation_enrichment/scenes/tool_loading.hpp"
+#include "deformation_enrichment/acquisition/tool_loading.hpp"
 
 namespace de = deformation_enrichment;
 
@@ -104,7 +104,7 @@ int main(int argc, char** argv) {
       const de::acquisition::ToolPath& p = tap.toolPath;
       const int drag = static_cast<int>(tap.path.size()) - 1 - indentSteps;
       for (int step = 0; step < static_cast<int>(tap.path.size()); ++step)
-        tap.tool.push_back(de::scenes::toolDisplacement(step, indentSteps, drag, p.inward, p.depth,
+        tap.tool.push_back(de::acquisition::toolDisplacement(step, indentSteps, drag, p.inward, p.depth,
                                                         drag > 0 ? Eigen::Vector3d(p.drag.normalized()) : Eigen::Vector3d::UnitX(),
                                                         p.drag.norm()));
       taps.push_back(std::move(tap));

@@ -256,4 +256,29 @@ SceneModels buildSceneModels(const SceneDescription& scene) {
   return scene.procedural ? proceduralModels(scene) : fileModels(scene);
 }
 
+SceneGeometry sceneGeometry(const SceneDescription& scene) {
+  SceneGeometry geometry;
+  std::ostringstream report;
+  if (scene.procedural) {
+    const Procedural& p = *scene.procedural;
+    geometry.surface = mesh::extractSurface(proceduralScene(p.shape, layering(p.fineCells, scene, p.fineSkinLayers)).mesh).surface;
+    geometry.volume = proceduralScene(p.shape, layering(p.coarseCells, scene, p.coarseSkinLayers)).mesh;
+    report << "procedural; ";
+  } else {
+    geometry.surface = mesh::readTriangleMesh(scene.surface);
+    geometry.surface.vertices *= scene.units;
+    if (!scene.volume.empty()) {
+      mesh::VolumeMeshFile file = mesh::readVolumeMesh(scene.volume);
+      file.mesh.vertices *= scene.units;
+      std::vector<int> fileToNode;
+      geometry.volume = compactVolume(file.mesh, fileToNode);
+    }
+  }
+  report << "display surface " << mesh::describe(mesh::inspectSurface(geometry.surface));
+  if (geometry.volume) report << "; volume " << geometry.volume->numVertices() << " nodes, " << geometry.volume->numTets() << " tets";
+  else report << "; no volume";
+  geometry.report = report.str();
+  return geometry;
+}
+
 }  // namespace deformation_enrichment::scenes

@@ -14,7 +14,7 @@
 #include "deformation_enrichment/mesh/tet_surface.hpp"
 #include "deformation_enrichment/mesh/tetgen_io.hpp"
 #include "deformation_enrichment/scenes/procedural_scene.hpp"
-#include "deformation_enrichment/scenes/tool_loading.hpp"
+#include "deformation_enrichment/acquisition/tool_loading.hpp"
 
 using namespace deformation_enrichment;
 using nlohmann::json;
@@ -134,7 +134,7 @@ int main(int argc, char** argv) {
                             : solverName == "ldlt"  ? elasticity::LinearSolverKind::SimplicialLDLT
                                                     : elasticity::LinearSolverKind::Auto;
     elasticity::QuasiStaticSolver solver(fem, settings);
-    const std::vector<int> tool = scenes::toolFootprint(scene, Eigen::Vector2d(point[0], point[1]), toolRadius);
+    const std::vector<int> tool = acquisition::toolFootprint(scene, Eigen::Vector2d(point[0], point[1]), toolRadius);
     const mesh::TetSurface surface = mesh::extractSurface(scene.mesh);
     std::filesystem::create_directories(outDir);
 
@@ -155,8 +155,8 @@ int main(int argc, char** argv) {
     writeObj(outDir + "/step_000.obj", surface, positions);
     bool allConverged = true;
     for (int step = 1; step <= firstPhase + dragSteps; ++step) {
-      const Eigen::Vector3d displacement = scenes::toolDisplacement(step, firstPhase, dragSteps, indent, depth, along, dragDistance);
-      const elasticity::SolveResult result = solver.solve(positions, scenes::toolConstraints(scene, tool, displacement));
+      const Eigen::Vector3d displacement = acquisition::toolDisplacement(step, firstPhase, dragSteps, indent, depth, along, dragDistance);
+      const elasticity::SolveResult result = solver.solve(positions, acquisition::toolConstraints(scene, tool, displacement));
       allConverged = allConverged && result.converged();
       char name[32];
       std::snprintf(name, sizeof(name), "/step_%03d.obj", step);

@@ -9,29 +9,16 @@
 // magnitude-aware stamps, rim band 0.1.
 #include <benchmark/benchmark.h>
 
-#include <cmath>
 #include <memory>
 
-#include "deformation_enrichment/acquisition/scene_acquisition.hpp"
 #include "deformation_enrichment/enrichment/contact_enricher.hpp"
 #include "deformation_enrichment/enrichment/temporal_filter.hpp"
-#include "deformation_enrichment/mesh/grid_tet_mesh.hpp"
-#include "deformation_enrichment/mesh/tet_surface.hpp"
 #include "ratio_reporter.hpp"
+#include "slab_bench_scene.hpp"
 
 using namespace deformation_enrichment;
 
 namespace {
-
-// A smooth dent of `depth` under p (stands in for the coarse state; its shape only sets mu).
-Eigen::Matrix3Xd dented(const Eigen::Matrix3Xd& rest, const Eigen::Vector3d& p, double depth, const Eigen::Vector3d& drag) {
-  Eigen::Matrix3Xd x = rest;
-  for (Eigen::Index v = 0; v < rest.cols(); ++v) {
-    const double w = std::exp(-(rest.col(v) - p).squaredNorm() / (2 * 0.006 * 0.006)) * rest(2, v) / 0.02;
-    x.col(v) += w * (drag - depth * Eigen::Vector3d::UnitZ());
-  }
-  return x;
-}
 
 struct Scene {
   std::unique_ptr<enrichment::ContactEnricher> enricher;
@@ -42,33 +29,12 @@ struct Scene {
 Scene& scene() {
   static std::unique_ptr<Scene> s;
   if (s) return *s;
+  const de_bench::SlabBenchScene& slab = de_bench::slabBenchScene();
   s = std::make_unique<Scene>();
-  // 150 x 150 x 3 cells: 45 904 + side vertices, ~50k surface vertices.
-  const mesh::TetSurface slab = mesh::extractSurface(
-      mesh::gridTetMesh(Eigen::Vector3d(-0.05, -0.05, 0.0), Eigen::Vector3d(0.05, 0.05, 0.02), Eigen::Vector3i(150, 150, 3)));
-  const enrichment::ContactEnricherOptions options =
-      acquisition::enricherOptions(scene_file::readSceneFile(scene_file::findSceneFile("slab")));
-  s->enricher = std::make_unique<enrichment::ContactEnricher>(slab.surface, options);
-  const Eigen::Matrix3Xd& rest = slab.surface.vertices;
-  examples::ExampleSet set;
-  for (int i = 0; i < 10; ++i) {
-    enrichment::Contact c;
-    c.point = Eigen::Vector3d(-0.02 + 0.004 * i, 0.01 * std::sin(i), 0.02);
-    const Eigen::Vector3d drag(0.0005 * (i % 3), 0.0005 * (i % 2), 0.0);
-    const enrichment::ContactDescription d = s->enricher->describe(dented(rest, c.point, 0.002 + 0.0002 * i, drag), c);
-    examples::Example e;
-    e.contact = d.p;
-    e.frame = d.B;
-    e.rho = d.rho;
-    e.mu = d.mu;
-    e.stampRadius = options.stampRadius;
-    e.stamp.create(32, 32, CV_32FC3);
-    cv::randn(e.stamp, cv::Scalar::all(0.0), cv::Scalar::all(1e-4));
-    set.examples.push_back(e);
-  }
-  s->enricher->setExamples(set);
-  s->contact.point = Eigen::Vector3d(0.003, -0.002, 0.02);
-  s->current = dented(rest, s->contact.point, 0.0025, Eigen::Vector3d(0.0004, 0.0, 0.0));
+  s->enricher = std::make_unique<enrichment::ContactEnricher>(slab.surface, slab.options);
+  s->enricher->setExamples(slab.set);
+  s->contact.point = slab.contact;
+  s->current = slab.current;
   return *s;
 }
 

@@ -17,7 +17,7 @@
 
 #include "deformation_enrichment/elasticity/quasi_static_solver.hpp"
 #include "deformation_enrichment/scenes/procedural_scene.hpp"
-#include "deformation_enrichment/scenes/tool_loading.hpp"
+#include "deformation_enrichment/acquisition/tool_loading.hpp"
 
 using namespace deformation_enrichment;
 
@@ -45,8 +45,8 @@ const Case& slabCase(int n, int m) {
         std::vector<elasticity::StableNeoHookean>{elasticity::StableNeoHookean(bulk.mu, bulk.lambda),
                                                   elasticity::StableNeoHookean(skin.mu, skin.lambda)},
         entry->scene.materialId);
-    const auto tool = scenes::toolFootprint(entry->scene, Eigen::Vector2d::Zero(), 0.006);
-    entry->constraints = scenes::toolConstraints(entry->scene, tool, Eigen::Vector3d(0, 0, -0.003));
+    const auto tool = acquisition::toolFootprint(entry->scene, Eigen::Vector2d::Zero(), 0.006);
+    entry->constraints = acquisition::toolConstraints(entry->scene, tool, Eigen::Vector3d(0, 0, -0.003));
   }
   return *entry;
 }

@@ -83,6 +83,18 @@ protected:
     return waitFor([&] { return findEnriched(cloud.header.stamp) != nullptr; }, seconds);
   }
 
+  /// The status of the state stamped `stamp`, waiting up to `seconds` for it; null if none came.
+  de::EnrichmentStatusConstPtr statusOf(const ros::Time& stamp, double seconds) {
+    de::EnrichmentStatusConstPtr found;
+    waitFor([&] {
+      std::lock_guard<std::mutex> lock(mutex_);
+      for (const auto& s : statuses_)
+        if (s->header.stamp == stamp) found = s;
+      return found != nullptr;
+    }, seconds);
+    return found;
+  }
+
   sensor_msgs::PointCloud2ConstPtr findEnriched(const ros::Time& stamp) {
     std::lock_guard<std::mutex> lock(mutex_);
     for (const auto& m : enriched_)
@@ -93,8 +105,12 @@ protected:
   void setRest(const de::mesh::TriangleMesh& rest) {
     rest_ = rest;
     restPub_.publish(de::ros_layer::messageFromTriangleMesh(rest, header()));
-    // The new rest mesh is active once a state of its size goes through.
-    ASSERT_TRUE(waitFor([&] { return roundTrip(goodState(), 0.3); }, 20.0)) << "rest mesh never became active";
+    // The new rest mesh is active once a state of its size goes through and its enricher is built.
+    ASSERT_TRUE(waitFor([&] {
+      const sensor_msgs::PointCloud2 state = goodState();
+      const de::EnrichmentStatusConstPtr status = roundTrip(state, 0.3) ? statusOf(state.header.stamp, 0.3) : nullptr;
+      return status && !status->rest_building;
+    }, 20.0)) << "rest mesh never became active";
   }
 
   // A tool pose (as PoseStamped or TransformStamped, sent by `publish`) 1 mm above surface vertex 5 must

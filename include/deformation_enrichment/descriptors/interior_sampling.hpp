@@ -8,10 +8,9 @@
 
 namespace deformation_enrichment::descriptors {
 
-/// Grid over the surface's bounding box with per-axis step extent / ceil(extent / spacing) <= spacing
-/// (metres), so the cells tile the box exactly, centres shifted by an irrational fraction of a cell so
-/// that rays almost surely miss edges and vertices. The volume quadrature of these samples is
-/// the midpoint rule: error O(spacing^2) away from the surface, O(spacing) from the boundary cells.
+/// Cell centres of the SampleGrid over the surface's bounding box (step <= spacing, metres) that lie
+/// inside. The volume quadrature of these samples is the midpoint rule: error O(spacing^2) away from the
+/// surface, O(spacing) from the boundary cells.
 /// Throws InvalidInputError for an invalid surface, a non-positive spacing, more than `maxSamples` grid
 /// cells, a column crossed an odd number of times (surface not closed) or no inside sample.
 PointSampling sampleClosedSurfaceInterior(const mesh::TriangleMesh& surface, double spacing,

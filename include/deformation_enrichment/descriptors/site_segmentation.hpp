@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "deformation_enrichment/descriptors/descriptor_evaluator.hpp"
+#include "deformation_enrichment/descriptors/site_density.hpp"
 #include "deformation_enrichment/hermite/moment_list.hpp"
 
 namespace deformation_enrichment::descriptors {
@@ -36,5 +37,12 @@ struct SiteSegmentation {
 
 /// Site descriptors (in their stamping frames) at every surface vertex of the evaluator, then k-means.
 SiteSegmentation segmentSites(const DescriptorEvaluator& evaluator, const KMeansOptions& options);
+
+/// One region label per vertex of a rest surface (the enrichment node's ~segment_sites): site descriptors at
+/// window scale `scale` (m) over the surface's site density (siteDensity: the closed surface's interior, the
+/// volume, or a shell under an open surface), clustered into `regions`. Throws InvalidInputError for a
+/// scale that is not positive, regions outside [1, vertices], or a density that cannot be made.
+std::vector<int> segmentSurface(const mesh::TriangleMesh& rest, const mesh::TetMesh* volume, int regions, double scale,
+                                const SiteDensityOptions& density);
 
 }  // namespace deformation_enrichment::descriptors

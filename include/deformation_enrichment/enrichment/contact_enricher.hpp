@@ -1,8 +1,9 @@
 #pragma once
 // The run-time pipeline of [Seiler14 §5-§6] on one rest surface, shared by the ROS node, acquisition and
 // evaluation so that example descriptors and run-time descriptors are computed by the same code:
-//   per contact p: site descriptor rho (density moments of an interior sampling of the closed rest
-//   surface, cached per rest vertex and interpolated over the contact's triangle), deformation descriptor mu (MLS "surface samples" mode over
+//   per contact p: site descriptor rho (density moments of the site density: by default an interior sampling
+//   of the closed rest surface, or the samples the caller gives (descriptors/site_density.hpp: a volume or a
+//   shell for an open surface); cached per rest vertex and interpolated over the contact's triangle), deformation descriptor mu (MLS "surface samples" mode over
 //   the surface vertices near p, rest vs current, completed by the rest/current normals), stamping frame
 //   B (normal, rho_1, then the deformation direction), then ExampleBlender (eq. 15 -> RBF -> eq. 16) and
 //   StampMapper (eq. 1, multi-contact rim rule).
@@ -89,11 +90,17 @@ struct EnrichmentResult {
   EnrichmentTimings timings;
 };
 
+/// The grid step of the site density's samples: options.sampleSpacing, or h / 4 when that is 0.
+double siteSampleSpacing(const ContactEnricherOptions& options);
+
 class ContactEnricher {
 public:
-  /// `restSurface` must be a valid closed triangle mesh (the interior sampling needs it closed). Throws
-  /// InvalidInputError for an invalid/open surface or bad options (non-positive radius, scale, spacing).
-  ContactEnricher(mesh::TriangleMesh restSurface, const ContactEnricherOptions& options);
+  /// `restSurface`: a valid triangle mesh (zero-area triangles allowed). `siteDensity`: the samples of the
+  /// material around it for rho (descriptors::siteDensity); none: the interior of the rest surface, which
+  /// must then be closed. Throws InvalidInputError for an invalid surface, an open one without density
+  /// samples, or bad options (non-positive radius, scale, spacing).
+  ContactEnricher(mesh::TriangleMesh restSurface, const ContactEnricherOptions& options,
+                  std::optional<descriptors::PointSampling> siteDensity = std::nullopt);
   ~ContactEnricher();
   ContactEnricher(ContactEnricher&&) noexcept;
   ContactEnricher& operator=(ContactEnricher&&) noexcept;

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "deformation_enrichment/ToolContactArray.h"
-#include "deformation_enrichment/ros/tool_tip.hpp"
+#include "deformation_enrichment/enrichment/tool_proximity.hpp"
 
 namespace deformation_enrichment::ros_layer {
 
@@ -30,22 +30,17 @@ public:
   /// a frame tf cannot transform); then the previous contacts stay.
   void updateFromArray(const ToolContactArray& message, const std::string& meshFrame);
 
-  /// Derives the contact of one tool from the pose of its tip link: in contact when the surface comes
-  /// within `contactDistance` of the tip's surface (signed distance, so also when it cuts into the tip); the
-  /// contact is the surface point closest to (deepest in) the tip, its normal the rest normal of the
-  /// surface vertex nearest to it. A point tip is the pose's position. Without `triangles`, the surface is
-  /// its vertices, and a point tip's contact is the tip itself (ContactEnricher places it on the surface). With `triangles` (the surface's
-  /// topology) the surface is its triangles: every triangle with a vertex within contactDistance + its
-  /// longest edge of the tip (a superset of those that can be within contactDistance, the signed distance
-  /// being 1-Lipschitz) is measured exactly. Throws like above.
+  /// The contact of one tool from the pose of its tip link (enrichment::toolProximity against the state
+  /// `surface`, with its triangles if given); its normal is the rest normal of the vertex nearest to it.
+  /// Not in contact: the tool's contact is removed. Throws InvalidInputError like above.
   void updateFromToolPose(const geometry_msgs::PoseStamped& pose, const std::string& toolId,
                           const std::string& meshFrame, const Eigen::Matrix3Xf& surface,
-                          const Eigen::Matrix3Xd& restNormals, double contactDistance, const ToolTip& tip = {},
+                          const Eigen::Matrix3Xd& restNormals, double contactDistance, const enrichment::ToolTip& tip = {},
                           const Eigen::Matrix3Xi* triangles = nullptr);
 
-  /// The tip link's pose in the pose's frame, after checking the pose: finite, and a unit quaternion for a
-  /// shaped tip (a point tip ignores the orientation). Throws InvalidInputError naming the problem.
-  static Eigen::Isometry3d linkPose(const geometry_msgs::PoseStamped& pose, const std::string& toolId, const ToolTip& tip);
+  /// The tip link's pose in the pose's frame (enrichment::toolLinkPose's checks). Throws InvalidInputError.
+  static Eigen::Isometry3d linkPose(const geometry_msgs::PoseStamped& pose, const std::string& toolId,
+                                    const enrichment::ToolTip& tip);
 
   /// Contacts in contact and not older than the staleness limit at `now`. A clock that jumped backwards
   /// (a rosbag loop) clears everything.

@@ -3,9 +3,11 @@
 // (docs/design.md §6). Procedural scenes build both as layered grids of one shape; a scene with mesh files
 // uses the user's coarse tet mesh (or tetrahedralises a simplified surface) and a fine tet mesh conforming
 // to the display surface (tetgen -pY keeps its vertices), so that fine - coarse lives on the display surface.
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "deformation_enrichment/mesh/tet_mesh.hpp"
 #include "deformation_enrichment/mesh/triangle_mesh.hpp"
 #include "deformation_enrichment/scene_file/scene_description.hpp"
 #include "deformation_enrichment/scenes/procedural_scene.hpp"
@@ -26,5 +28,18 @@ struct SceneModels {
 /// surface tetgen cannot tetrahedralise, a fixed region with fewer than 3 non-collinear nodes in either
 /// model, or fixed node ids beyond the volume.
 SceneModels buildSceneModels(const scene_file::SceneDescription& scene);
+
+/// What the run time needs of a scene (the enrichment node's ~scene): the display surface and the coarse
+/// volume around it (metres), without the fine model.
+struct SceneGeometry {
+  mesh::TriangleMesh surface;          ///< as buildSceneModels' display surface; may be open
+  std::optional<mesh::TetMesh> volume; ///< the coarse volume (procedural: the coarse grid); none: the scene has no file
+  std::string report;                  ///< what was read (counts, open or closed)
+};
+
+/// Reads (or, for a procedural scene, makes) the scene's display surface and coarse volume. Unlike
+/// buildSceneModels the surface may be open and nothing is tetrahedralised. Throws InvalidInputError /
+/// IoError naming the file for unreadable or invalid meshes.
+SceneGeometry sceneGeometry(const scene_file::SceneDescription& scene);
 
 }  // namespace deformation_enrichment::scenes

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <string>
 
 #include "deformation_enrichment/error.hpp"
@@ -49,85 +48,29 @@ void ContactTracker::updateFromArray(const ToolContactArray& message, const std:
   latestStamp_ = std::max(latestStamp_, message.header.stamp);
 }
 
-Eigen::Isometry3d ContactTracker::linkPose(const geometry_msgs::PoseStamped& pose, const std::string& toolId, const ToolTip& tip) {
+Eigen::Isometry3d ContactTracker::linkPose(const geometry_msgs::PoseStamped& pose, const std::string& toolId,
+                                           const enrichment::ToolTip& tip) {
   Eigen::Vector3d position;
   tf2::fromMsg(pose.pose.position, position);
   Eigen::Quaterniond orientation;
   tf2::fromMsg(pose.pose.orientation, orientation);
-  if (!position.allFinite() || !orientation.coeffs().allFinite())
-    throw InvalidInputError("tool pose of '" + toolId + "' is not finite");
-  // A point tip ignores the orientation (a position-only source may leave the quaternion zero).
-  if (tip.isPoint()) orientation = Eigen::Quaterniond::Identity();
-  else if (std::abs(orientation.norm() - 1.0) > 1e-3)
-    throw InvalidInputError("tool pose of '" + toolId + "' has no valid orientation (quaternion norm " +
-                            std::to_string(orientation.norm()) + ")");
-  return Eigen::Translation3d(position) * orientation.normalized();
+  return enrichment::toolLinkPose(position, orientation, tip, toolId);
 }
 
 void ContactTracker::updateFromToolPose(const geometry_msgs::PoseStamped& pose, const std::string& toolId,
                                         const std::string& meshFrame, const Eigen::Matrix3Xf& surface,
-                                        const Eigen::Matrix3Xd& restNormals, double contactDistance, const ToolTip& tip,
-                                        const Eigen::Matrix3Xi* triangles) {
+                                        const Eigen::Matrix3Xd& restNormals, double contactDistance,
+                                        const enrichment::ToolTip& tip, const Eigen::Matrix3Xi* triangles) {
   const Eigen::Isometry3d linkToMesh = toMeshFrame(pose.header, meshFrame) * linkPose(pose, toolId, tip);
-  const Eigen::Isometry3d meshToLink = linkToMesh.inverse();
   if (surface.cols() == 0) throw InvalidInputError("no mesh state yet to find the contact of tool '" + toolId + "'");
-  // Lower bounds |v - c| - R from the tip's bounding ball (vectorised, float; 1 um slack for rounding),
-  // so the exact signed distance is evaluated only where it can matter.
-  const Eigen::Vector3f centre = (linkToMesh * tip.boundCentre()).cast<float>();
-  vertexBound_ = (surface.colwise() - centre).colwise().norm().array() - static_cast<float>(tip.boundRadius() + 1e-6);
-  Eigen::Index nearest = 0;
-  vertexBound_.minCoeff(&nearest);
-  double distance = tip.signedDistance(meshToLink * Eigen::Vector3d(surface.col(nearest).cast<double>()));
-  for (Eigen::Index v = 0; v < surface.cols(); ++v) {
-    if (vertexBound_[v] >= distance) continue;
-    const double d = tip.signedDistance(meshToLink * Eigen::Vector3d(surface.col(v).cast<double>()));
-    if (d < distance) {
-      distance = d;
-      nearest = v;
-    }
-  }
-  Eigen::Vector3d point = surface.col(nearest).cast<double>();
-  Eigen::Index normalVertex = nearest;
-  if (triangles != nullptr) {
-    if (triangles->size() > 0 && (triangles->minCoeff() < 0 || triangles->maxCoeff() >= surface.cols()))
-      throw InvalidInputError("the surface triangles reference vertices the mesh state does not have");
-    const int* index = triangles->data();
-    const float* bound = vertexBound_.data();
-    for (Eigen::Index t = 0; t < triangles->cols(); ++t) {
-      const Eigen::Vector3i f(index[3 * t], index[3 * t + 1], index[3 * t + 2]);
-      // A triangle point within the contact distance (or closer than the best so far) needs a vertex within
-      // that plus the triangle's longest edge: the signed distance is 1-Lipschitz.
-      const float gap = std::min({bound[f[0]], bound[f[1]], bound[f[2]]}) - static_cast<float>(std::min(contactDistance, distance));
-      if (gap > 0.0f) {
-        const float longest = std::max({(surface.col(f[1]) - surface.col(f[0])).squaredNorm(),
-                                        (surface.col(f[2]) - surface.col(f[1])).squaredNorm(),
-                                        (surface.col(f[0]) - surface.col(f[2])).squaredNorm()});
-        if (longest < gap * gap) continue;
-      }
-      const Eigen::Vector3d a = surface.col(f[0]).cast<double>(), b = surface.col(f[1]).cast<double>(),
-                            c = surface.col(f[2]).cast<double>();
-      Eigen::Vector3d closest;
-      const double d = tip.triangleDistance(meshToLink * a, meshToLink * b, meshToLink * c, &closest);
-      if (d < distance) {
-        distance = d;
-        point = linkToMesh * closest;
-        normalVertex = f[0];
-        for (int k = 1; k < 3; ++k)
-          if ((surface.col(f[k]).cast<double>() - point).squaredNorm() <
-              (surface.col(normalVertex).cast<double>() - point).squaredNorm())
-            normalVertex = f[k];
-      }
-    }
-  }
+  const enrichment::ToolProximity contact =
+      enrichment::toolProximity(linkToMesh, tip, surface, contactDistance, triangles, vertexBound_);
   latestStamp_ = std::max(latestStamp_, pose.header.stamp);
-  if (distance > contactDistance) {
+  if (!contact.inContact) {
     contacts_.erase(toolId);
     return;
   }
-  // A point tip without triangles is in contact by its nearest vertex, but the contact is the tip itself: the
-  // enricher puts it on its nearest surface point, so it does not jump from vertex to vertex as the tool slides.
-  if (tip.isPoint() && triangles == nullptr) point = linkToMesh.translation();
-  contacts_[toolId] = TrackedContact{toolId, point, restNormals.col(normalVertex), 0.0, pose.header.stamp};
+  contacts_[toolId] = TrackedContact{toolId, contact.point, restNormals.col(contact.nearestVertex), 0.0, pose.header.stamp};
 }
 
 std::vector<TrackedContact> ContactTracker::active(const ros::Time& now) {

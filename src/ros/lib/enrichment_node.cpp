@@ -2,61 +2,44 @@
 
 #include <algorithm>
 #include <cctype>
-#include <chrono>
-#include <cstring>
 
+#include "deformation_enrichment/descriptors/site_segmentation.hpp"
 #include "deformation_enrichment/error.hpp"
-#include "deformation_enrichment/mesh/mesh_io.hpp"
-#include "deformation_enrichment/mesh/mesh_state.hpp"
 #include "deformation_enrichment/ros/conversions.hpp"
+#include "deformation_enrichment/ros/enrichment_markers.hpp"
+#include "deformation_enrichment/ros/site_regions.hpp"
 
 namespace deformation_enrichment::ros_layer {
 
 EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
     : nh_(nh),
       privateNh_(privateNh),
+      parameters_(readEnrichmentNodeParameters(privateNh)),
       tfListener_(tfBuffer_, nh),
-      contacts_(tfBuffer_, ros::Duration(privateNh.param("contact_timeout", 0.5))),
-      diagnostics_(nh, privateNh) {
-  errorThrottle_ = privateNh_.param("error_throttle", 1.0);
-  toolContactDistance_ = privateNh_.param("tool_contact_distance", 0.003);
-  markerOptions_ = markerOptionsFromParams(privateNh_);
-  segmentation_.scale = privateNh_.param("descriptor_scale", 0.005);
-  segmentation_.sampleSpacing = privateNh_.param("segmentation_sample_spacing", 0.0);
-  // Start-up values of the run-time knobs; the reconfigure server reads the same parameters.
-  knobs_.stampGain = privateNh_.param("stamp_gain", 1.0);
-  knobs_.sigmaRho = privateNh_.param("sigma_rho", 0.0);
-  knobs_.sigmaU = privateNh_.param("sigma_u", 0.0);
-  knobs_.hermiteOrder = privateNh_.param("hermite_order", 0);
-  knobs_.minConfidence = privateNh_.param("min_confidence", 0.0);
-  knobs_.temporalSmoothing = privateNh_.param("temporal_smoothing", 0.0);
-  enrichment::ContactContinuityOptions continuity;
-  continuity.followRelease = privateNh_.param("follow_release", true);
-  continuity.releaseFloor = privateNh_.param("release_floor", continuity.releaseFloor);
-  continuity.matchRadius = privateNh_.param("site_match_radius", continuity.matchRadius);
-  try {
-    continuity_ = enrichment::ContactContinuity(continuity);
-  } catch (const Error& e) {
-    ROS_ERROR("~release_floor or ~site_match_radius rejected: %s (keeping %g and %g)", e.what(),
-              enrichment::ContactContinuityOptions().releaseFloor, enrichment::ContactContinuityOptions().matchRadius);
+      diagnostics_(nh, privateNh),
+      contacts_(tfBuffer_, ros::Duration(parameters_.contactTimeout)) {
+  std::optional<enrichment::RestGeometry> rest = startupRest();
+  enrichment::SessionOptions options = parameters_.session;
+  options.log = [](enrichment::SessionLogLevel level, const std::string& text) {
+    if (level == enrichment::SessionLogLevel::Error) ROS_ERROR("%s", text.c_str());
+    else if (level == enrichment::SessionLogLevel::Warning) ROS_WARN("%s", text.c_str());
+    else ROS_INFO("%s", text.c_str());
+  };
+  session_ = std::make_unique<enrichment::EnrichmentSession>(std::move(options));
+  session_->setKnobs(parameters_.knobs);  // checked by readEnrichmentNodeParameters
+  if (rest) {
+    try {
+      session_->setRestGeometry(std::move(*rest));
+    } catch (const Error& e) {
+      ROS_ERROR("rest surface rejected: %s (waiting for the rest_mesh topic instead)", e.what());
+    }
   }
-  minRate_ = privateNh_.param("expected_rate_min", 1.0);
-  maxRate_ = privateNh_.param("expected_rate_max", 1000.0);
 
   diagnostics_.setHardwareID("none");
   diagnostics_.add("enrichment", this, &EnrichmentNode::diagnose);
   outputRate_ = std::make_unique<diagnostic_updater::HeaderlessTopicDiagnostic>(
-      "enriched_mesh_state", diagnostics_, diagnostic_updater::FrequencyStatusParam(&minRate_, &maxRate_, 0.1, 10));
-
-  const std::string restFile = privateNh_.param<std::string>("rest_mesh_file", "");
-  if (!restFile.empty()) {
-    try {
-      setRestMesh(mesh::readTriangleMesh(restFile), "file " + restFile);
-    } catch (const Error& e) {
-      ROS_ERROR("rest mesh file rejected: %s (waiting for the rest_mesh topic instead)", e.what());
-    }
-  }
-
+      "enriched_mesh_state", diagnostics_,
+      diagnostic_updater::FrequencyStatusParam(&parameters_.minRate, &parameters_.maxRate, 0.1, 10));
   enrichedPub_ = nh_.advertise<sensor_msgs::PointCloud2>("enriched_mesh_state", 2);
   statusPub_ = privateNh_.advertise<EnrichmentStatus>("status", 10);
   markersPub_ = privateNh_.advertise<visualization_msgs::MarkerArray>("markers", 1);
@@ -74,12 +57,11 @@ EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
   serviceSpinner_ = std::make_unique<ros::AsyncSpinner>(1, &serviceQueue_);
   serviceSpinner_->start();
 
-  const std::string setPath = privateNh_.param<std::string>("example_set", "");
-  if (!setPath.empty()) {
+  if (!parameters_.exampleSet.empty()) {
     try {
-      loadExampleSet(setPath);
+      loadExampleSet(parameters_.exampleSet);
     } catch (const Error& e) {
-      ROS_ERROR("example set '%s' rejected: %s (enriching nothing until one loads)", setPath.c_str(), e.what());
+      ROS_ERROR("example set '%s' rejected: %s (enriching nothing until one loads)", parameters_.exampleSet.c_str(), e.what());
     }
   }
   // Its service runs on the service queue too, so reconfiguring never stalls the enrichment; the callback
@@ -87,8 +69,8 @@ EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
   reconfigureServer_ = std::make_unique<dynamic_reconfigure::Server<EnrichmentConfig>>(reconfigureMutex_, serviceNh);
   reconfigureServer_->setCallback([this](EnrichmentConfig& config, uint32_t level) { onReconfigure(config, level); });
 
-  const double markerRate = privateNh_.param("marker_rate", 5.0);
-  if (markerRate > 0.0) markerTimer_ = nh_.createTimer(ros::Duration(1.0 / markerRate), &EnrichmentNode::onMarkerTimer, this);
+  if (parameters_.markerRate > 0.0)
+    markerTimer_ = nh_.createTimer(ros::Duration(1.0 / parameters_.markerRate), &EnrichmentNode::onMarkerTimer, this);
   diagnosticsTimer_ = nh_.createTimer(ros::Duration(0.5), [this](const ros::TimerEvent&) { diagnostics_.update(); });
 }
 
@@ -100,190 +82,87 @@ void EnrichmentNode::reject(const std::string& input, const std::string& why) {
   kind.erase(std::remove_if(kind.begin(), kind.end(), [](unsigned char c) { return std::isdigit(c); }), kind.end());
   const ros::WallTime now = ros::WallTime::now();
   auto& last = lastLogged_[kind];
-  if (last.isZero() || (now - last).toSec() >= errorThrottle_) {
+  if (last.isZero() || (now - last).toSec() >= parameters_.errorThrottle) {
     last = now;
     ROS_ERROR("dropped %s: %s (keeping the last good state)", input.c_str(), why.c_str());
   }
 }
 
-void EnrichmentNode::setRestMesh(mesh::TriangleMesh rest, const std::string& source) {
-  mesh::validate(rest, false);
-  // A latched topic re-sends the same mesh to every new connection: keep the state then.
-  if (rest_ && rest_->numVertices() == rest.numVertices() && rest_->numTriangles() == rest.numTriangles() &&
-      rest_->vertices == rest.vertices && rest_->triangles == rest.triangles)
-    return;
-  restNormals_ = mesh::vertexNormals(rest);
-  ROS_INFO("rest mesh from %s: %ld vertices, %ld triangles", source.c_str(), static_cast<long>(rest.numVertices()),
-           static_cast<long>(rest.numTriangles()));
-  // A new topology (e.g. after a cut) needs a new enricher; the loaded examples stay.
-  if (exampleSet_) {
-    try {
-      enricher_ = makeEnricher(rest, *exampleSet_, knobs_);
-    } catch (const Error& e) {
-      enricher_.reset();
-      ROS_ERROR("cannot enrich the new rest mesh: %s", e.what());
-    }
-  }
-  rest_ = std::move(rest);
-  ++restVersion_;
-  ++configVersion_;
-  // A new topology invalidates states of the old one, and the tools' memory of it.
-  continuity_.reset();
-  temporalFilter_.reset();
-  lastInput_.reset();
-  lastEnriched_.reset();
-  lastPositions_.resize(3, 0);
-  lastEnrichedPositions_.resize(3, 0);
-}
-
 void EnrichmentNode::onRestMesh(const pcl_msgs::PolygonMeshConstPtr& message) {
-  std::lock_guard<std::mutex> lock(mutex_);
   try {
-    setRestMesh(triangleMeshFromMessage(*message), "topic rest_mesh");
+    // The scene's volume holds every rest surface of the object (a cut surface too).
+    session_->setRestGeometry({triangleMeshFromMessage(*message), sceneVolume_, "topic rest_mesh"});
   } catch (const Error& e) {
+    std::lock_guard<std::mutex> lock(mutex_);
     reject("rest_mesh", e.what());
   }
-}
-
-namespace {
-bool sameContact(const enrichment::Contact& a, const enrichment::Contact& b) {
-  return a.point == b.point && a.restState == b.restState && a.normal == b.normal && a.toolId == b.toolId &&
-         a.previousFrameAxis == b.previousFrameAxis && a.releasedMagnitude == b.releasedMagnitude;
-}
-}  // namespace
-
-bool EnrichmentNode::unchanged(const sensor_msgs::PointCloud2& message, const std::vector<enrichment::Contact>& contacts) const {
-  if (!lastWasEnriched_ || !lastInput_ || lastConfigVersion_ != configVersion_) return false;
-  if (temporalFilter_.timeConstant() > 0.0) return false;
-  if (contacts.size() != lastContacts_.size() || !std::equal(contacts.begin(), contacts.end(), lastContacts_.begin(), sameContact))
-    return false;
-  const sensor_msgs::PointCloud2& last = *lastInput_;
-  if (message.width != last.width || message.height != last.height || message.point_step != last.point_step ||
-      message.is_bigendian != last.is_bigendian || message.fields != last.fields || message.data.size() != last.data.size())
-    return false;
-  // One pass over the buffer (~0.1 ms per 100k points), far below describing, blending and mapping.
-  return std::memcmp(message.data.data(), last.data.data(), message.data.size()) == 0;
 }
 
 void EnrichmentNode::onMeshState(const sensor_msgs::PointCloud2ConstPtr& message) {
   const auto start = std::chrono::steady_clock::now();
   std::lock_guard<std::mutex> lock(mutex_);
   ++statesIn_;
-  if (!rest_) return reject("mesh_state", "no rest mesh yet (publish rest_mesh or set ~rest_mesh_file)");
   Eigen::Matrix3Xf positions;
+  std::shared_ptr<const enrichment::RestSurface> rest;
   try {
     positions = positionsFromCloud(*message);
-    mesh::validateMeshState(positions, rest_->numVertices());
   } catch (const Error& e) {
     return reject("mesh_state", e.what());
   }
+  rest = session_->restFor(positions.cols());
+  if (!rest) {
+    const auto newest = session_->newestRest();
+    return reject("mesh_state", newest ? "mesh state has " + std::to_string(positions.cols()) + " points but the rest mesh has " +
+                                             std::to_string(newest->geometry.surface.numVertices())
+                                       : "no rest mesh yet (publish rest_mesh or set ~scene or ~rest_mesh_file)");
+  }
   meshFrame_ = message->header.frame_id;
-  resolveToolPoses(message->header.stamp, positions);
-  const std::vector<TrackedContact> active = contacts_.active(message->header.stamp);
+  std::vector<TrackedContact> touching = touchingTools(message->header.stamp, positions, *rest);
+  std::vector<enrichment::ToolContact> tools;
+  for (const TrackedContact& contact : touching) tools.push_back({contact.toolId, contact.position});
+  try {
+    const enrichment::FrameResult& result = session_->enrich(positions, tools, message->header.stamp.toSec());
+    if (!result.error.empty()) reject("contacts", "enrichment skipped for this state: " + result.error);
+    publish(message, std::move(positions), result, touching, start);
+  } catch (const Error& e) {
+    reject("mesh_state", e.what());
+  }
+}
+
+void EnrichmentNode::publish(const sensor_msgs::PointCloud2ConstPtr& message, Eigen::Matrix3Xf positions,
+                             const enrichment::FrameResult& result, const std::vector<TrackedContact>& touching,
+                             std::chrono::steady_clock::time_point start) {
+  sensor_msgs::PointCloud2ConstPtr enriched = message;  // nothing changed: the input itself, without a copy
+  if (result.changed) {
+    auto copy = boost::make_shared<sensor_msgs::PointCloud2>(*message);
+    writePositions(session_->enrichedPositions(), *copy);
+    enriched = copy;
+    lastEnrichedPositions_ = session_->enrichedPositions();
+  } else {
+    lastEnrichedPositions_ = positions;
+  }
+  enrichedPub_.publish(enriched);
+  outputRate_->tick();
+  ++statesOut_;
+  lastHeader_ = message->header;
+  lastPositions_ = std::move(positions);
+  lastTouching_ = touching;
 
   EnrichmentStatus status;
   status.header = message->header;
-  // No contact or no examples: the input itself is the enriched state, published without a copy
-  // (nodelet subscribers share the pointer). Otherwise only the touched vertices change.
-  sensor_msgs::PointCloud2ConstPtr enriched = message;
-  Eigen::Matrix3Xf enrichedPositions = positions;
-  // Tools in contact, then the sites released tools left deformed; a fading filter needs states too.
-  const std::vector<enrichment::Contact> contacts =
-      enricher_ ? continuity_.contactsFor(touchingContacts(active)) : std::vector<enrichment::Contact>();
-  const bool enrich = enricher_ && (!contacts.empty() || temporalFilter_.fading());
-  bool enrichedHere = false;  // the enrichment ran (or was reused) without error
-  if (enrich && unchanged(*message, contacts)) {
-    // Same state, contacts, set and knobs as the last enriched state: republish its result, new header.
-    if (lastEnriched_ != lastInput_) {
-      auto copy = boost::make_shared<sensor_msgs::PointCloud2>(*lastEnriched_);
-      copy->header = message->header;
-      enriched = copy;
-    }
-    enrichedPositions = lastEnrichedPositions_;
-    status = lastStatus_;
-    status.header = message->header;
-    status.tool_ids.clear();
-    status.reused = true;
-    ++statesReused_;
-    enrichedHere = true;
-  } else if (enrich) {
-    try {
-      enrichState(message, positions, contacts, enrichedPositions, enriched, status);
-      enrichedHere = true;
-    } catch (const Error& e) {
-      reject("contacts", std::string("enrichment skipped for this state: ") + e.what());
-      enriched = message;
-      enrichedPositions = positions;
-      status = EnrichmentStatus();
-      status.header = message->header;
-    }
-  } else {
-    temporalFilter_.reset();  // nothing enriched: a later contact starts the filter afresh
-  }
-  lastStateStamp_ = message->header.stamp;
-  lastWasEnriched_ = enrichedHere;
-  lastInput_ = message;
-  lastEnriched_ = enriched;
-  lastPositions_ = std::move(positions);
-  lastEnrichedPositions_ = std::move(enrichedPositions);
-  enrichedPub_.publish(lastEnriched_);
-  outputRate_->tick();
-  ++statesOut_;
-
+  status.vertices_touched = result.verticesTouched;
+  status.released_sites = result.releasedSites;
+  status.confidence = result.confidence;
+  status.example_ids = result.exampleIds;
+  status.weights = result.weights;
+  status.reused = result.kind == enrichment::FrameResult::Kind::Reused;
+  status.rest_building = result.restPending;
+  status.states_reused = session_->diagnostics().statesReused;
+  for (const auto& contact : touching) status.tool_ids.push_back(contact.toolId);
   lastComputeMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   maxComputeMs_ = std::max(maxComputeMs_, lastComputeMs_);
-  for (const auto& contact : active) status.tool_ids.push_back(contact.toolId);
   status.compute_ms = static_cast<float>(lastComputeMs_);
-  status.states_reused = statesReused_;
   statusPub_.publish(status);
-}
-
-std::vector<enrichment::Contact> EnrichmentNode::touchingContacts(const std::vector<TrackedContact>& active) {
-  std::vector<enrichment::Contact> contacts;
-  for (const TrackedContact& tracked : active) {
-    enrichment::Contact contact;
-    contact.point = tracked.position;
-    contact.restState = false;  // contacts live in the current (mesh-state) frame
-    const auto number = toolNumbers_.emplace(tracked.toolId, static_cast<int>(toolNumbers_.size())).first;
-    contact.toolId = number->second;
-    contacts.push_back(contact);
-  }
-  return contacts;
-}
-
-void EnrichmentNode::enrichState(const sensor_msgs::PointCloud2ConstPtr& message, const Eigen::Matrix3Xf& positions,
-                                 const std::vector<enrichment::Contact>& contacts, Eigen::Matrix3Xf& enrichedPositions,
-                                 sensor_msgs::PointCloud2ConstPtr& enriched, EnrichmentStatus& status) {
-  const Eigen::Matrix3Xd current = positions.cast<double>();
-  enricher_->enrich(current, contacts, enrichment_);
-  auto& touched = enrichment_.enrichment;
-  const double dt = lastStateStamp_.isZero() ? 0.0 : (message->header.stamp - lastStateStamp_).toSec();
-  temporalFilter_.filter(touched, dt, current.cols());  // a dt <= 0 (stamps going backwards) restarts it
-  for (size_t k = 0; k < touched.vertices.size(); ++k)
-    enrichedPositions.col(touched.vertices[k]) += touched.displacements.col(static_cast<Eigen::Index>(k)).cast<float>();
-  if (!enrichedPositions.allFinite()) {
-    temporalFilter_.reset();
-    throw NumericalError("enrichment produced a non-finite position");
-  }
-  continuity_.update(enrichment_);
-  if (!touched.vertices.empty()) {
-    auto copy = boost::make_shared<sensor_msgs::PointCloud2>(*message);
-    writePositions(enrichedPositions, *copy);
-    enriched = copy;
-  }
-  status.vertices_touched = static_cast<uint32_t>(touched.vertices.size());
-  status.released_sites = static_cast<uint32_t>(continuity_.releasedSites());
-  for (const auto& outcome : enrichment_.contacts) {
-    status.confidence = std::max(status.confidence, static_cast<float>(outcome.confidence));
-    for (Eigen::Index i = 0; i < outcome.weights.size(); ++i) {
-      if (std::abs(outcome.weights[i]) < 1e-3) continue;  // report the examples that matter
-      status.example_ids.push_back(static_cast<uint32_t>(i));
-      status.weights.push_back(static_cast<float>(outcome.weights[i]));
-    }
-  }
-  lastStatus_ = status;
-  lastContacts_ = contacts;
-  lastConfigVersion_ = configVersion_;
 }
 
 void EnrichmentNode::onContacts(const ToolContactArrayConstPtr& message) {
@@ -306,7 +185,8 @@ void EnrichmentNode::updateToolPose(const geometry_msgs::PoseStamped& pose, cons
   }
 }
 
-void EnrichmentNode::resolveToolPoses(const ros::Time& stamp, const Eigen::Matrix3Xf& positions) {
+std::vector<TrackedContact> EnrichmentNode::touchingTools(const ros::Time& stamp, const Eigen::Matrix3Xf& positions,
+                                                          const enrichment::RestSurface& rest) {
   for (auto it = toolPoses_.begin(); it != toolPoses_.end();) {
     const auto& [pose, source] = it->second;
     if (pose.header.stamp > stamp + ros::Duration(1.0)) {
@@ -314,32 +194,32 @@ void EnrichmentNode::resolveToolPoses(const ros::Time& stamp, const Eigen::Matri
       continue;
     }
     try {
-      // A URDF tip is measured against the triangles (exact, 1.39 ms at 100k vertices, bench_tool_contact_ros);
+      // A URDF tip is measured against the triangles (exact, 1.39 ms at 100k vertices, bench_tool_contact);
       // a point tip against the vertices (0.33 ms), its contact being the tip itself.
-      contacts_.updateFromToolPose(pose, source->spec.id, meshFrame_, positions, restNormals_, toolContactDistance_,
-                                   source->tip, source->tip.isPoint() ? nullptr : &rest_->triangles);
+      contacts_.updateFromToolPose(pose, source->spec.id, meshFrame_, positions, rest.normals, parameters_.toolContactDistance,
+                                   source->tip, source->tip.isPoint() ? nullptr : &rest.geometry.surface.triangles);
     } catch (const Error& e) {
       reject(source->spec.topic, e.what());
     }
     ++it;
   }
+  return contacts_.active(stamp);
 }
 
 void EnrichmentNode::onMarkerTimer(const ros::TimerEvent&) {
   if (markersPub_.getNumSubscribers() == 0) return;  // markers cost megabytes: only for an audience
   std::lock_guard<std::mutex> lock(mutex_);
-  if (!rest_ || !lastInput_) return;
-  const auto active = contacts_.active(lastInput_->header.stamp);
-  markersPub_.publish(enrichmentMarkers(lastInput_->header, *rest_, lastPositions_, lastEnrichedPositions_, active,
-                                        markerOptions_));
+  const auto rest = session_->restFor(lastPositions_.cols());
+  if (!rest || lastPositions_.cols() == 0) return;
+  markersPub_.publish(enrichmentMarkers(lastHeader_, rest->geometry.surface, lastPositions_, lastEnrichedPositions_,
+                                        lastTouching_, parameters_.markers));
 }
 
 bool EnrichmentNode::onSegmentSites(SegmentSites::Request& request, SegmentSites::Response& response) {
-  std::optional<mesh::TriangleMesh> rest;
+  const std::shared_ptr<const enrichment::RestSurface> rest = session_->newestRest();
   std_msgs::Header header;
   {
-    std::lock_guard<std::mutex> lock(mutex_);  // copy, so the enrichment goes on while this computes
-    rest = rest_;
+    std::lock_guard<std::mutex> lock(mutex_);
     header.frame_id = meshFrame_;
   }
   response.success = false;
@@ -347,7 +227,7 @@ bool EnrichmentNode::onSegmentSites(SegmentSites::Request& request, SegmentSites
     response.message = "no rest mesh yet";
     return true;
   }
-  const auto vertices = static_cast<uint64_t>(rest->vertices.cols());
+  const auto vertices = static_cast<uint64_t>(rest->geometry.surface.numVertices());
   if (request.regions < 1 || request.regions > vertices) {
     response.message = "segment_sites: regions must be in [1, " + std::to_string(vertices) + "] (one per rest vertex at most), got " +
                        std::to_string(request.regions);
@@ -355,10 +235,17 @@ bool EnrichmentNode::onSegmentSites(SegmentSites::Request& request, SegmentSites
     return true;
   }
   try {
-    const std::vector<int> labels = segmentRestSurface(*rest, static_cast<int>(request.regions), segmentation_);
+    // The rest surface's own site density (its interior, the scene's volume or a shell), as the enricher's.
+    descriptors::SiteDensityOptions density = parameters_.session.density;
+    const double scale = parameters_.segmentationScale;
+    density.spacing = parameters_.session.defaults.sampleSpacing > 0.0 ? parameters_.session.defaults.sampleSpacing : scale / 4.0;
+    if (!(density.shellThickness > 0.0)) density.shellThickness = 3.0 * scale;
+    const mesh::TetMesh* volume = rest->geometry.volume ? &*rest->geometry.volume : nullptr;
+    const std::vector<int> labels =
+        descriptors::segmentSurface(rest->geometry.surface, volume, static_cast<int>(request.regions), scale, density);
     response.labels.assign(labels.begin(), labels.end());
     header.stamp = ros::Time::now();
-    siteRegionsPub_.publish(siteRegionMarkers(header, *rest, labels));
+    siteRegionsPub_.publish(siteRegionMarkers(header, rest->geometry.surface, labels));
     response.success = true;
     response.message = "segmented " + std::to_string(labels.size()) + " vertices into " +
                        std::to_string(request.regions) + " site regions";
@@ -370,34 +257,42 @@ bool EnrichmentNode::onSegmentSites(SegmentSites::Request& request, SegmentSites
 }
 
 void EnrichmentNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
+  const enrichment::SessionDiagnostics session = session_->diagnostics();
+  const enrichment::EnrichmentKnobs knobs = session_->knobs();
   std::lock_guard<std::mutex> lock(mutex_);
   uint64_t droppedTotal = 0;
   for (const auto& [input, count] : dropped_) {
     status.add("dropped " + input, count);
     droppedTotal += count;
   }
-  if (!rest_) {
+  if (session.restVertices == 0 && !session.rebuilding) {
     status.summary(diagnostic_msgs::DiagnosticStatus::WARN, "waiting for a rest mesh");
   } else if (droppedTotal > 0) {
     status.summary(diagnostic_msgs::DiagnosticStatus::WARN, "inputs dropped; last: " + lastError_);
   } else {
     status.summary(diagnostic_msgs::DiagnosticStatus::OK, "enriching");
   }
-  status.add("rest vertices", rest_ ? rest_->numVertices() : 0);
+  status.add("rest vertices", session.restVertices);
+  status.add("site density", session.siteDensity);
+  status.add("rest surface being built", session.rebuilding);
+  status.add("rest surfaces built", session.rebuilds);
+  status.add("rest surfaces superseded while building", session.supersededRebuilds);
+  status.add("last rest build [s]", session.lastRebuildSeconds);
+  status.add("last rest surface refused", session.lastRestError);
   status.add("mesh states in", statesIn_);
   status.add("enriched states out", statesOut_);
   status.add("last compute [ms]", lastComputeMs_);
   status.add("max compute [ms]", maxComputeMs_);
-  status.add("states reused (unchanged input)", statesReused_);
+  status.add("states reused (unchanged input)", session.statesReused);
   status.add("last error", lastError_);
-  status.add("stamp gain", knobs_.stampGain);
-  status.add("hermite order requested (0 = set's)", knobs_.hermiteOrder);
-  if (enricher_ && enricher_->blender()) {
-    status.add("hermite order", enricher_->options().descriptors.deformationOrder);
-    status.add("sigma_rho", enricher_->blender()->widths().sigmaRho);
-    status.add("sigma_u", enricher_->blender()->widths().sigmaU);
-    status.add("sigma_rho fitted", enricher_->loadedWidths().sigmaRho);
-    status.add("sigma_u fitted", enricher_->loadedWidths().sigmaU);
+  status.add("stamp gain", knobs.stampGain);
+  status.add("hermite order requested (0 = set's)", knobs.hermiteOrder);
+  if (session.hermiteOrder > 0) {
+    status.add("hermite order", session.hermiteOrder);
+    status.add("sigma_rho", session.widths.sigmaRho);
+    status.add("sigma_u", session.widths.sigmaU);
+    status.add("sigma_rho fitted", session.fittedWidths.sigmaRho);
+    status.add("sigma_u fitted", session.fittedWidths.sigmaU);
   }
   for (const auto& source : toolSources_) status.add("tool tip of " + source->spec.id + " on " + source->spec.topic, source->tipStatus);
 }

@@ -1,57 +1,38 @@
-// The enrichment node's configuration at run time: example sets, the dynamically reconfigurable knobs
-// (stamp gain, kernel widths, Hermite order), the tool pose topics and their tips' geometry from
-// robot_description.
-// Slow work (building an enricher: interior sampling, leave-one-out width fit) runs on the service thread
-// outside the frame lock; the finished enricher is swapped in under it, so a change applies from the next
-// mesh state on.
-#include <algorithm>
-
-#include "deformation_enrichment/enrichment/descriptor_order.hpp"
-#include "deformation_enrichment/enrichment/example_set_options.hpp"
+// The enrichment node's configuration at run time: the rest surface at start-up (~scene, ~rest_mesh_file),
+// example sets, the dynamically reconfigurable knobs, the tool pose topics and their tips' geometry from
+// robot_description. Slow work (building an enricher) runs in the session, outside the frame path.
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/examples/example_set_io.hpp"
+#include "deformation_enrichment/mesh/mesh_io.hpp"
 #include "deformation_enrichment/ros/enrichment_node.hpp"
+#include "deformation_enrichment/scene_file/scene_description.hpp"
+#include "deformation_enrichment/scenes/scene_models.hpp"
 
 namespace deformation_enrichment::ros_layer {
 
-std::unique_ptr<enrichment::ContactEnricher> EnrichmentNode::makeEnricher(const mesh::TriangleMesh& rest,
-                                                                          const examples::ExampleSet& set,
-                                                                          const EnrichmentKnobs& knobs) const {
-  // Contacts are described exactly as the set's examples were (window, quadrature, interior sampling,
-  // orders, stamp radius); ~descriptor_scale and ~segmentation_sample_spacing only fill in what a set
-  // does not record. A lower mu order may be chosen by knob.
-  enrichment::ContactEnricherOptions defaults;
-  defaults.descriptors.window.scale = segmentation_.scale;
-  defaults.sampleSpacing = segmentation_.sampleSpacing;
-  enrichment::ContactEnricherOptions options = enrichment::optionsFor(set, defaults);
-  const int built = options.descriptors.deformationOrder;
-  const int order = knobs.hermiteOrder > 0 ? std::min(knobs.hermiteOrder, built) : built;
-  options.descriptors.deformationOrder = order;
-  options.stampGain = knobs.stampGain;
-  options.minConfidence = knobs.minConfidence;
-  auto enricher = std::make_unique<enrichment::ContactEnricher>(rest, options);
-  // Truncated mu: the leave-one-out widths are fitted for the descriptors actually compared.
-  enricher->setExamples(enrichment::withDeformationOrder(set, order));
-  enricher->setKernelWidths(knobs.sigmaRho, knobs.sigmaU);
-  return enricher;
-}
-
-void EnrichmentNode::installEnricher(examples::ExampleSet set, const EnrichmentKnobs& knobs) {
-  std::optional<mesh::TriangleMesh> rest;
-  uint64_t restVersion = 0;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    rest = rest_;
-    restVersion = restVersion_;
+std::optional<enrichment::RestGeometry> EnrichmentNode::startupRest() {
+  if (!parameters_.scene.empty()) {
+    try {
+      const scene_file::SceneDescription scene = scene_file::readSceneFile(scene_file::findSceneFile(parameters_.scene));
+      scenes::SceneGeometry geometry = scenes::sceneGeometry(scene);
+      if (!parameters_.maxOutside) parameters_.session.density.maxOutside = scene.maxOutside;
+      sceneVolume_ = geometry.volume;
+      ROS_INFO("scene '%s': %s", parameters_.scene.c_str(), geometry.report.c_str());
+      return enrichment::RestGeometry{std::move(geometry.surface), std::move(geometry.volume), "scene " + scene.name};
+    } catch (const Error& e) {
+      ROS_ERROR("~scene '%s' rejected: %s (using ~rest_mesh_file or the rest_mesh topic instead)", parameters_.scene.c_str(),
+                e.what());
+    }
   }
-  // Built outside the lock (interior sampling, kernel-width fitting): the enrichment goes on meanwhile.
-  std::unique_ptr<enrichment::ContactEnricher> enricher = rest ? makeEnricher(*rest, set, knobs) : nullptr;
-  std::lock_guard<std::mutex> lock(mutex_);
-  if (restVersion_ != restVersion) enricher = rest_ ? makeEnricher(*rest_, set, knobs) : nullptr;  // rest changed meanwhile
-  exampleSet_ = std::move(set);
-  enricher_ = std::move(enricher);
-  knobs_ = knobs;
-  ++configVersion_;
+  if (parameters_.maxOutside) parameters_.session.density.maxOutside = *parameters_.maxOutside;
+  if (parameters_.restMeshFile.empty()) return std::nullopt;
+  try {
+    return enrichment::RestGeometry{mesh::readTriangleMesh(parameters_.restMeshFile), std::nullopt,
+                                    "file " + parameters_.restMeshFile};
+  } catch (const Error& e) {
+    ROS_ERROR("rest mesh file rejected: %s (waiting for the rest_mesh topic instead)", e.what());
+    return std::nullopt;
+  }
 }
 
 void EnrichmentNode::loadExampleSet(const std::string& path) {
@@ -59,102 +40,61 @@ void EnrichmentNode::loadExampleSet(const std::string& path) {
   boost::recursive_mutex::scoped_lock configLock(reconfigureMutex_);
   examples::ExampleSet set = examples::loadExampleSet(path);
   if (set.examples.empty()) throw InvalidInputError("example set '" + path + "' has no examples");
-  const int built = enrichment::deformationOrder(set);
-  EnrichmentKnobs knobs;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    knobs = knobs_;
-  }
-  if (knobs.hermiteOrder > built)
-    ROS_WARN("example set '%s' stores deformation moments up to order %d: hermite_order %d runs at %d", path.c_str(),
-             built, knobs.hermiteOrder, built);
-  installEnricher(std::move(set), knobs);
-  ROS_INFO("example set '%s' active: %zu examples, Hermite order %d", path.c_str(), exampleSet_->examples.size(),
-           std::min(built, knobs.hermiteOrder > 0 ? knobs.hermiteOrder : built));
+  const std::size_t count = set.examples.size();
+  session_->setExampleSet(std::move(set));
+  ROS_INFO("example set '%s' active: %zu examples, Hermite order %d", path.c_str(), count, session_->diagnostics().hermiteOrder);
 }
 
 bool EnrichmentNode::onLoadExampleSet(LoadExampleSet::Request& request, LoadExampleSet::Response& response) {
   try {
     loadExampleSet(request.path);
-    std::lock_guard<std::mutex> lock(mutex_);
     response.success = true;
-    response.num_examples = static_cast<uint32_t>(exampleSet_->examples.size());
+    response.num_examples = static_cast<uint32_t>(session_->exampleCount());
     response.message = "loaded " + std::to_string(response.num_examples) + " examples";
   } catch (const Error& e) {
     response.success = false;
     response.message = e.what();
-    std::lock_guard<std::mutex> lock(mutex_);
-    response.num_examples = exampleSet_ ? static_cast<uint32_t>(exampleSet_->examples.size()) : 0;
+    response.num_examples = static_cast<uint32_t>(session_->exampleCount());
     ROS_ERROR("load_example_set '%s' rejected, the previous set stays active: %s", request.path.c_str(), e.what());
   }
   return true;
 }
 
 void EnrichmentNode::onReconfigure(EnrichmentConfig& config, uint32_t /*level*/) {
-  EnrichmentKnobs requested{config.stamp_gain,     config.sigma_rho,       config.sigma_u,
-                            config.hermite_order,  config.min_confidence,  config.temporal_smoothing};
-  EnrichmentKnobs old;
-  std::optional<examples::ExampleSet> set;
-  int activeOrder = 0;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    old = knobs_;
-    set = exampleSet_;  // stamps are shared cv::Mat headers: cheap
-    if (enricher_) activeOrder = enricher_->options().descriptors.deformationOrder;
-  }
-  if (set) {
-    const int built = enrichment::deformationOrder(*set);
-    if (requested.hermiteOrder > built) {
-      ROS_ERROR("hermite_order %d refused: the active example set stores deformation moments up to order %d only "
-                "(keeping hermite_order %d)", requested.hermiteOrder, built, old.hermiteOrder);
-      requested.hermiteOrder = old.hermiteOrder;
-      config.hermite_order = old.hermiteOrder;
-    }
-    const int order = requested.hermiteOrder > 0 ? requested.hermiteOrder : built;
-    if (activeOrder != 0 && order != activeOrder) {
-      try {  // new descriptors on both sides: a new enricher, widths fitted again for them
-        installEnricher(std::move(*set), requested);
-        ROS_INFO("Hermite order of the deformation descriptor now %d (set built with %d)", order, built);
-      } catch (const Error& e) {
-        ROS_ERROR("hermite_order %d refused: %s (keeping hermite_order %d)", requested.hermiteOrder, e.what(),
-                  old.hermiteOrder);
-        requested.hermiteOrder = old.hermiteOrder;
-        config.hermite_order = old.hermiteOrder;
+  enrichment::EnrichmentKnobs requested{config.stamp_gain,    config.sigma_rho,      config.sigma_u,
+                                        config.hermite_order, config.min_confidence, config.temporal_smoothing};
+  const enrichment::EnrichmentKnobs kept = session_->knobs();
+  try {
+    session_->setKnobs(requested);
+    return;
+  } catch (const Error& e) {
+    if (requested.hermiteOrder == kept.hermiteOrder) {
+      ROS_ERROR("reconfiguration refused: %s (keeping stamp_gain %g, sigma_rho %g, sigma_u %g, min_confidence %g, "
+                "temporal_smoothing %g)", e.what(), kept.stampGain, kept.sigmaRho, kept.sigmaU, kept.minConfidence,
+                kept.temporalSmoothing);
+      requested = kept;
+    } else {  // the order alone is refused (above the active set's): the other knobs still apply
+      ROS_ERROR("hermite_order %d refused: %s (keeping hermite_order %d)", requested.hermiteOrder, e.what(), kept.hermiteOrder);
+      requested.hermiteOrder = kept.hermiteOrder;
+      try {
+        session_->setKnobs(requested);
+      } catch (const Error& again) {
+        ROS_ERROR("reconfiguration refused: %s (keeping the previous values)", again.what());
+        requested = kept;
       }
     }
   }
-  std::lock_guard<std::mutex> lock(mutex_);
-  try {
-    if (enricher_) {
-      enricher_->setStampGain(requested.stampGain);
-      enricher_->setKernelWidths(requested.sigmaRho, requested.sigmaU);  // O(N^3) in the examples: cheap
-      enricher_->setMinConfidence(requested.minConfidence);
-    }
-    if (requested.temporalSmoothing != temporalFilter_.timeConstant()) temporalFilter_.setTimeConstant(requested.temporalSmoothing);
-    knobs_ = requested;
-  } catch (const Error& e) {
-    ROS_ERROR("reconfiguration refused: %s (keeping stamp_gain %g, sigma_rho %g, sigma_u %g)", e.what(), old.stampGain,
-              old.sigmaRho, old.sigmaU);
-    if (enricher_) {
-      enricher_->setStampGain(old.stampGain);
-      enricher_->setKernelWidths(old.sigmaRho, old.sigmaU);
-      enricher_->setMinConfidence(old.minConfidence);
-    }
-    knobs_.minConfidence = old.minConfidence;
-    config.min_confidence = old.minConfidence;
-    knobs_.stampGain = old.stampGain;
-    knobs_.sigmaRho = old.sigmaRho;
-    knobs_.sigmaU = old.sigmaU;
-    config.stamp_gain = old.stampGain;
-    config.sigma_rho = old.sigmaRho;
-    config.sigma_u = old.sigmaU;
-  }
-  ++configVersion_;  // the next state is computed afresh
+  config.stamp_gain = requested.stampGain;
+  config.sigma_rho = requested.sigmaRho;
+  config.sigma_u = requested.sigmaU;
+  config.hermite_order = requested.hermiteOrder;
+  config.min_confidence = requested.minConfidence;
+  config.temporal_smoothing = requested.temporalSmoothing;
 }
 
-ToolTip EnrichmentNode::loadToolTip(const std::string& link, std::string& status) const {
+enrichment::ToolTip EnrichmentNode::loadToolTip(const std::string& link, std::string& status) const {
   if (link.empty()) {
-    status = ToolTip().description();
+    status = enrichment::ToolTip().description();
     return {};
   }
   std::string key, urdf;
@@ -164,7 +104,7 @@ ToolTip EnrichmentNode::loadToolTip(const std::string& link, std::string& status
     return {};
   }
   try {
-    ToolTip tip = toolTipFromUrdf(urdf, link);
+    enrichment::ToolTip tip = enrichment::toolTipFromUrdf(urdf, link);
     status = tip.description();
     ROS_INFO("tool tip: %s", status.c_str());
     return tip;
@@ -176,8 +116,7 @@ ToolTip EnrichmentNode::loadToolTip(const std::string& link, std::string& status
 }
 
 void EnrichmentNode::subscribeToolPoses() {
-  std::vector<ToolPoseSpec> specs = defaultToolPoseSpecs(privateNh_.param<std::string>("tool_pose_id", "tool_pose"),
-                                                         privateNh_.param<std::string>("tool_tip_link", ""));
+  std::vector<ToolPoseSpec> specs = defaultToolPoseSpecs(parameters_.toolPoseId, parameters_.toolTipLink);
   XmlRpc::XmlRpcValue list;
   if (privateNh_.getParam("tool_poses", list)) {
     try {

@@ -2,23 +2,8 @@
 
 #include <cmath>
 
-#include "deformation_enrichment/descriptors/descriptor_evaluator.hpp"
-#include "deformation_enrichment/descriptors/interior_sampling.hpp"
-#include "deformation_enrichment/descriptors/site_segmentation.hpp"
-#include "deformation_enrichment/error.hpp"
 
 namespace deformation_enrichment::ros_layer {
-
-std::vector<int> segmentRestSurface(const mesh::TriangleMesh& rest, int regions, const SiteSegmentationParameters& p) {
-  if (!(p.scale > 0.0)) throw InvalidInputError("site segmentation scale must be positive");
-  descriptors::DescriptorOptions options;
-  options.window.scale = p.scale;
-  const double spacing = p.sampleSpacing > 0.0 ? p.sampleSpacing : p.scale / 4.0;
-  descriptors::DescriptorEvaluator evaluator(descriptors::sampleClosedSurfaceInterior(rest, spacing), rest, {}, options);
-  descriptors::KMeansOptions kmeans;
-  kmeans.clusters = regions;
-  return descriptors::segmentSites(evaluator, kmeans).clusters.labels;
-}
 
 visualization_msgs::MarkerArray siteRegionMarkers(const std_msgs::Header& header, const mesh::TriangleMesh& rest,
                                                   const std::vector<int>& labels) {

@@ -21,41 +21,9 @@ namespace {
 using de_test::slabSurface;
 enrichment::ContactEnricherOptions options() { return de_test::enricherOptions(); }
 
-// A dent with a lateral shear around `centre` (sign flips it): smooth, so MLS sees a clear deformation.
-Eigen::Matrix3Xd dented(const Eigen::Matrix3Xd& rest, const Eigen::Vector3d& centre, double sign) {
-  Eigen::Matrix3Xd current = rest;
-  for (Eigen::Index v = 0; v < rest.cols(); ++v) {
-    const double g = std::exp(-(rest.col(v) - centre).squaredNorm() / (2.0 * 0.008 * 0.008));
-    current.col(v) += sign * g * Eigen::Vector3d(0.002, 0.0005, -0.003);
-  }
-  return current;
-}
-
-cv::Mat syntheticStamp(int n, double radius) {
-  cv::Mat stamp(n, n, CV_32FC3);
-  for (int j = 0; j < n; ++j)
-    for (int k = 0; k < n; ++k) {
-      const double phi = -radius + 2.0 * radius * k / (n - 1), varphi = -radius + 2.0 * radius * j / (n - 1);
-      stamp.at<cv::Vec3f>(j, k) = cv::Vec3f(static_cast<float>(2e-4 * std::cos(300.0 * varphi)), 0.0f,
-                                            static_cast<float>(1e-3 * std::sin(250.0 * phi) * std::cos(150.0 * varphi)));
-    }
-  return stamp;
-}
-
-examples::ExampleSet oneExampleSet(const enrichment::ContactDescription& d, const cv::Mat& stamp, double radius) {
-  examples::Example e;
-  e.contact = d.p;
-  e.frame = d.B;
-  e.rho = d.rho;
-  e.mu = d.mu;
-  e.stamp = stamp;
-  e.stampRadius = radius;
-  e.sceneId = "synthetic";
-  examples::ExampleSet set;
-  set.metadata.scene = "synthetic";
-  set.examples.push_back(e);
-  return set;
-}
+using de_test::dented;
+using de_test::oneExampleSet;
+using de_test::syntheticStamp;
 
 enrichment::ExampleBlenderOptions fixedWidths() {
   enrichment::ExampleBlenderOptions b;

@@ -10,7 +10,7 @@
 
 #include "deformation_enrichment/elasticity/quasi_static_solver.hpp"
 #include "deformation_enrichment/scenes/procedural_scene.hpp"
-#include "deformation_enrichment/scenes/tool_loading.hpp"
+#include "deformation_enrichment/acquisition/tool_loading.hpp"
 
 using namespace deformation_enrichment;
 
@@ -72,15 +72,15 @@ DragOutcome dragAcrossStrip(bool withSkin) {
       scene.fixedVertices.push_back(static_cast<int>(v));
   const Eigen::Vector2d toolAt(-0.025, 0.0);
   const double toolRadius = 0.0035;
-  std::vector<int> tool = scenes::toolFootprint(scene, toolAt, toolRadius);
+  std::vector<int> tool = acquisition::toolFootprint(scene, toolAt, toolRadius);
   elasticity::QuasiStaticSolver solver(fem);
   Eigen::Matrix3Xd x = scene.mesh.vertices;
   DragOutcome outcome;
   const int indentSteps = 1, dragSteps = 8;
   for (int step = 1; step <= indentSteps + dragSteps; ++step) {
-    const Eigen::Vector3d d = scenes::toolDisplacement(step, indentSteps, dragSteps, -Eigen::Vector3d::UnitZ(), 0.002,
+    const Eigen::Vector3d d = acquisition::toolDisplacement(step, indentSteps, dragSteps, -Eigen::Vector3d::UnitZ(), 0.002,
                                                        Eigen::Vector3d::UnitX(), 0.02);
-    const elasticity::SolveResult result = solver.solve(x, scenes::toolConstraints(scene, tool, d));
+    const elasticity::SolveResult result = solver.solve(x, acquisition::toolConstraints(scene, tool, d));
     outcome.converged = outcome.converged && result.converged();
     EXPECT_TRUE(result.converged()) << (withSkin ? "skin " : "no skin ") << step << ": " << result.message;
     if (std::getenv("DE_DEBUG_HISTORY"))

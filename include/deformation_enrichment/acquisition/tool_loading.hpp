@@ -9,11 +9,11 @@
 #include "deformation_enrichment/elasticity/quasi_static_solver.hpp"
 #include "deformation_enrichment/scenes/procedural_scene.hpp"
 
-namespace deformation_enrichment::scenes {
+namespace deformation_enrichment::acquisition {
 
 /// Top vertices whose rest position lies within `radius` of `point` measured in the x-y plane (the tool
 /// tip footprint). Throws InvalidInputError if none is found (the tool misses the tissue).
-std::vector<int> toolFootprint(const Scene& scene, const Eigen::Vector2d& point, double radius);
+std::vector<int> toolFootprint(const scenes::Scene& scene, const Eigen::Vector2d& point, double radius);
 
 /// Tool displacement after `step` of a path that first indents by `depth` along `indentDirection` in
 /// `indentSteps` steps, then drags by `dragDistance` along `dragDirection` in `dragSteps` steps
@@ -23,11 +23,11 @@ Eigen::Vector3d toolDisplacement(int step, int indentSteps, int dragSteps, const
 
 /// Support vertices held at rest plus tool vertices at rest + displacement (tool vertices that are also
 /// support vertices stay supported).
-elasticity::DirichletConstraints toolConstraints(const Scene& scene, const std::vector<int>& tool,
+elasticity::DirichletConstraints toolConstraints(const scenes::Scene& scene, const std::vector<int>& tool,
                                                  const Eigen::Vector3d& displacement);
 
 /// Support held at rest (the Dirichlet part of a penalty-tool load).
-elasticity::DirichletConstraints supportConstraints(const Scene& scene);
+elasticity::DirichletConstraints supportConstraints(const scenes::Scene& scene);
 
 /// Penalty tool at rest: springs on the top vertices, targets at their rest positions (add the tool
 /// displacement to the targets to move the tool). k_v = stiffnessPerArea * integral over the top surface
@@ -36,7 +36,7 @@ elasticity::DirichletConstraints supportConstraints(const Scene& scene);
 /// Integrated on each top triangle subdivided to pieces of at most radius / 4. Support vertices get no
 /// spring. Throws InvalidInputError for a non-finite centre, non-positive radius or stiffness, or a
 /// footprint that touches no top triangle.
-elasticity::AnchorSprings toolSprings(const Scene& scene, const Eigen::Vector3d& centre, double radius,
+elasticity::AnchorSprings toolSprings(const scenes::Scene& scene, const Eigen::Vector3d& centre, double radius,
                                       double stiffnessPerArea);
 
-}  // namespace deformation_enrichment::scenes
+}  // namespace deformation_enrichment::acquisition

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace deformation_enrichment::ros_layer {
+namespace deformation_enrichment::enrichment {
 
 struct TipPrimitive {
   enum class Shape { Sphere, Cylinder, Box };
@@ -58,4 +58,4 @@ private:
 /// non-positive / non-finite dimensions.
 ToolTip toolTipFromUrdf(const std::string& urdfXml, const std::string& link);
 
-}  // namespace deformation_enrichment::ros_layer
+}  // namespace deformation_enrichment::enrichment

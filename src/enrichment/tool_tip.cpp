@@ -1,6 +1,6 @@
-#include "deformation_enrichment/ros/tool_tip.hpp"
+#include "deformation_enrichment/enrichment/tool_tip.hpp"
 
-#include <urdf/model.h>
+#include <urdf_parser/urdf_parser.h>
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/closest_point_on_triangle.hpp"
 
-namespace deformation_enrichment::ros_layer {
+namespace deformation_enrichment::enrichment {
 using mesh::closestPointOnTriangle;
 
 namespace {
@@ -178,10 +178,10 @@ std::string ToolTip::description() const {
 
 ToolTip toolTipFromUrdf(const std::string& urdfXml, const std::string& link) {
   if (urdfXml.empty()) throw InvalidInputError("robot_description is empty");
-  urdf::Model model;
-  if (!model.initString(urdfXml)) throw InvalidInputError("robot_description is not a valid URDF (urdfdom could not parse it)");
-  const urdf::LinkConstSharedPtr tipLink = model.getLink(link);
-  if (!tipLink) throw InvalidInputError("URDF '" + model.getName() + "' has no link '" + link + "'");
+  const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(urdfXml);
+  if (!model) throw InvalidInputError("robot_description is not a valid URDF (urdfdom could not parse it)");
+  const urdf::LinkConstSharedPtr tipLink = model->getLink(link);
+  if (!tipLink) throw InvalidInputError("URDF '" + model->getName() + "' has no link '" + link + "'");
   std::vector<TipPrimitive> primitives;
   for (const auto& collision : tipLink->collision_array)
     if (collision) primitives.push_back(primitive(*collision, link));
@@ -190,4 +190,4 @@ ToolTip toolTipFromUrdf(const std::string& urdfXml, const std::string& link) {
   return ToolTip(link, std::move(primitives));
 }
 
-}  // namespace deformation_enrichment::ros_layer
+}  // namespace deformation_enrichment::enrichment

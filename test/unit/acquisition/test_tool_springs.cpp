@@ -4,7 +4,7 @@
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/scenes/procedural_scene.hpp"
-#include "deformation_enrichment/scenes/tool_loading.hpp"
+#include "deformation_enrichment/acquisition/tool_loading.hpp"
 
 using namespace deformation_enrichment;
 
@@ -29,7 +29,7 @@ TEST(ToolSprings, TotalStiffnessIsTheFootprintIntegralAtAnyResolution) {
   for (int cells : {10, 24, 40}) {
     const scenes::Scene scene = slab(cells);
     for (const Eigen::Vector3d& centre : {Eigen::Vector3d(0.0, 0.0, 0.02), Eigen::Vector3d(0.0137, -0.0042, 0.02)}) {
-      const elasticity::AnchorSprings s = scenes::toolSprings(scene, centre, R, k);
+      const elasticity::AnchorSprings s = acquisition::toolSprings(scene, centre, R, k);
       s.validate(scene.mesh.numVertices());
       EXPECT_NEAR(s.stiffness.sum(), exact, 0.01 * exact) << cells << " cells";
       for (std::size_t i = 0; i < s.vertices.size(); ++i) {
@@ -45,9 +45,9 @@ TEST(ToolSprings, LoadVariesContinuouslyAcrossACoarseCell) {
   // penalty stiffness of every vertex changes by a small amount per 0.1 mm step.
   const scenes::Scene scene = slab(10);
   const double R = 0.005, k = 1e9, total = k * M_PI * R * R / 3.0;
-  elasticity::AnchorSprings previous = scenes::toolSprings(scene, Eigen::Vector3d(0.0, 0.0, 0.02), R, k);
+  elasticity::AnchorSprings previous = acquisition::toolSprings(scene, Eigen::Vector3d(0.0, 0.0, 0.02), R, k);
   for (int step = 1; step <= 100; ++step) {
-    const elasticity::AnchorSprings current = scenes::toolSprings(scene, Eigen::Vector3d(1e-4 * step, 0.0, 0.02), R, k);
+    const elasticity::AnchorSprings current = acquisition::toolSprings(scene, Eigen::Vector3d(1e-4 * step, 0.0, 0.02), R, k);
     double change = 0.0;
     for (int v : scene.topVertices) change = std::max(change, std::abs(stiffnessOf(current, v) - stiffnessOf(previous, v)));
     EXPECT_LT(change, 0.03 * total) << "at x = " << 1e-4 * step;
@@ -57,8 +57,8 @@ TEST(ToolSprings, LoadVariesContinuouslyAcrossACoarseCell) {
 
 TEST(ToolSprings, RejectsAToolAwayFromTheTopAndBadParameters) {
   const scenes::Scene scene = slab(10);
-  EXPECT_THROW(scenes::toolSprings(scene, Eigen::Vector3d(0.3, 0.0, 0.02), 0.005, 1e9), InvalidInputError);
-  EXPECT_THROW(scenes::toolSprings(scene, Eigen::Vector3d(0.0, 0.0, 0.02), 0.0, 1e9), InvalidInputError);
-  EXPECT_THROW(scenes::toolSprings(scene, Eigen::Vector3d(0.0, 0.0, 0.02), 0.005, -1.0), InvalidInputError);
-  EXPECT_THROW(scenes::toolSprings(scene, Eigen::Vector3d(std::nan(""), 0.0, 0.02), 0.005, 1e9), InvalidInputError);
+  EXPECT_THROW(acquisition::toolSprings(scene, Eigen::Vector3d(0.3, 0.0, 0.02), 0.005, 1e9), InvalidInputError);
+  EXPECT_THROW(acquisition::toolSprings(scene, Eigen::Vector3d(0.0, 0.0, 0.02), 0.0, 1e9), InvalidInputError);
+  EXPECT_THROW(acquisition::toolSprings(scene, Eigen::Vector3d(0.0, 0.0, 0.02), 0.005, -1.0), InvalidInputError);
+  EXPECT_THROW(acquisition::toolSprings(scene, Eigen::Vector3d(std::nan(""), 0.0, 0.02), 0.005, 1e9), InvalidInputError);
 }

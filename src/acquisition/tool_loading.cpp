@@ -1,4 +1,4 @@
-#include "deformation_enrichment/scenes/tool_loading.hpp"
+#include "deformation_enrichment/acquisition/tool_loading.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -10,9 +10,9 @@
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/tet_surface.hpp"
 
-namespace deformation_enrichment::scenes {
+namespace deformation_enrichment::acquisition {
 
-std::vector<int> toolFootprint(const Scene& scene, const Eigen::Vector2d& point, double radius) {
+std::vector<int> toolFootprint(const scenes::Scene& scene, const Eigen::Vector2d& point, double radius) {
   if (!point.allFinite() || !(radius > 0.0) || !std::isfinite(radius))
     throw InvalidInputError("toolFootprint: point must be finite and radius positive");
   std::vector<int> tool;
@@ -37,13 +37,13 @@ Eigen::Vector3d toolDisplacement(int step, int indentSteps, int dragSteps, const
   return displacement;
 }
 
-elasticity::DirichletConstraints supportConstraints(const Scene& scene) {
+elasticity::DirichletConstraints supportConstraints(const scenes::Scene& scene) {
   elasticity::DirichletConstraints constraints;
   for (int v : scene.fixedVertices) constraints.add(v, scene.mesh.vertices.col(v));
   return constraints;
 }
 
-elasticity::DirichletConstraints toolConstraints(const Scene& scene, const std::vector<int>& tool,
+elasticity::DirichletConstraints toolConstraints(const scenes::Scene& scene, const std::vector<int>& tool,
                                                  const Eigen::Vector3d& displacement) {
   elasticity::DirichletConstraints constraints = supportConstraints(scene);
   const std::set<int> support(scene.fixedVertices.begin(), scene.fixedVertices.end());
@@ -52,7 +52,7 @@ elasticity::DirichletConstraints toolConstraints(const Scene& scene, const std::
   return constraints;
 }
 
-elasticity::AnchorSprings toolSprings(const Scene& scene, const Eigen::Vector3d& centre, double radius,
+elasticity::AnchorSprings toolSprings(const scenes::Scene& scene, const Eigen::Vector3d& centre, double radius,
                                       double stiffnessPerArea) {
   if (!centre.allFinite() || !(radius > 0.0) || !std::isfinite(radius) || !(stiffnessPerArea > 0.0) ||
       !std::isfinite(stiffnessPerArea))
@@ -109,4 +109,4 @@ elasticity::AnchorSprings toolSprings(const Scene& scene, const Eigen::Vector3d&
   return springs;
 }
 
-}  // namespace deformation_enrichment::scenes
+}  // namespace deformation_enrichment::acquisition

@@ -1,9 +1,7 @@
-// The tool tip geometry of the enrichment node without a master: signed distances of the URDF primitives,
-// clear errors for unusable URDFs, triangle distances against a dense-sampling oracle, and the contact
-// tracker's use of the pose orientation and of the surface triangles. Linked into test_enrichment_knobs.
+// The tool tip geometry: signed distances of the URDF primitives, clear errors for unusable URDFs, triangle
+// distances against a dense-sampling oracle, and the tool proximity's use of the pose orientation and of the
+// surface triangles.
 #include <gtest/gtest.h>
-#include <geometry_msgs/PoseStamped.h>
-#include <tf2_ros/buffer.h>
 
 #include <Eigen/Core>
 #include <algorithm>
@@ -13,9 +11,9 @@
 #include <string>
 
 #include "deformation_enrichment/error.hpp"
-#include "deformation_enrichment/ros/contact_tracker.hpp"
 #include "deformation_enrichment/mesh/closest_point_on_triangle.hpp"
-#include "deformation_enrichment/ros/tool_tip.hpp"
+#include "deformation_enrichment/enrichment/tool_proximity.hpp"
+#include "deformation_enrichment/enrichment/tool_tip.hpp"
 
 namespace de = deformation_enrichment;
 
@@ -34,20 +32,20 @@ TEST(ToolTipGeometry, SignedDistancesOfUrdfPrimitivesAndClearErrors) {
     urdf += std::string("<joint name=\"") + link + "_joint\" type=\"fixed\"><parent link=\"base\"/><child link=\"" + link +
             "\"/></joint>";
   urdf += "</robot>";
-  const auto ball = de::ros_layer::toolTipFromUrdf(urdf, "ball");
+  const auto ball = de::enrichment::toolTipFromUrdf(urdf, "ball");
   EXPECT_NEAR(ball.signedDistance(Eigen::Vector3d(0, 0, 0.01)), 0.006, 1e-12);
   EXPECT_NEAR(ball.signedDistance(Eigen::Vector3d::Zero()), -0.004, 1e-12);
-  const auto rod = de::ros_layer::toolTipFromUrdf(urdf, "rod");  // spans z in [0, 0.02] of the link
+  const auto rod = de::enrichment::toolTipFromUrdf(urdf, "rod");  // spans z in [0, 0.02] of the link
   EXPECT_NEAR(rod.signedDistance(Eigen::Vector3d(0, 0, -0.003)), 0.003, 1e-12);
   EXPECT_NEAR(rod.signedDistance(Eigen::Vector3d(0.005, 0, 0.01)), 0.003, 1e-12);
   EXPECT_NEAR(rod.signedDistance(Eigen::Vector3d(0.005, 0, -0.004)), 0.005, 1e-12);
-  const auto block = de::ros_layer::toolTipFromUrdf(urdf, "block");
+  const auto block = de::enrichment::toolTipFromUrdf(urdf, "block");
   EXPECT_NEAR(block.signedDistance(Eigen::Vector3d(0.02, 0, 0)), 0.01, 1e-12);
   EXPECT_NEAR(block.signedDistance(Eigen::Vector3d(0, 0, 0.01)), -0.01, 1e-12);
-  EXPECT_NEAR(de::ros_layer::ToolTip().signedDistance(Eigen::Vector3d(0.003, 0.004, 0)), 0.005, 1e-12);
+  EXPECT_NEAR(de::enrichment::ToolTip().signedDistance(Eigen::Vector3d(0.003, 0.004, 0)), 0.005, 1e-12);
   auto message = [&](const std::string& xml, const std::string& link) {
     try {
-      de::ros_layer::toolTipFromUrdf(xml, link);
+      de::enrichment::toolTipFromUrdf(xml, link);
     } catch (const de::InvalidInputError& e) {
       return std::string(e.what());
     }
@@ -73,7 +71,7 @@ TEST(ToolTipGeometry, TriangleDistanceMatchesADenseSamplingOfTheTriangle) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> coordinate(-0.015, 0.015);
   for (const char* link : {"ball", "rod", "block"}) {
-    const de::ros_layer::ToolTip tip = de::ros_layer::toolTipFromUrdf(urdf, link);
+    const de::enrichment::ToolTip tip = de::enrichment::toolTipFromUrdf(urdf, link);
     for (int trial = 0; trial < 40; ++trial) {
       const Eigen::Vector3d a(coordinate(rng), coordinate(rng), coordinate(rng)), b(coordinate(rng), coordinate(rng), coordinate(rng)),
           c(coordinate(rng), coordinate(rng), coordinate(rng));
@@ -103,66 +101,52 @@ TEST(ToolTipGeometry, TrianglesCatchATipOverACoarseTriangleThatNoVertexIsNear) {
   // One 4 cm square of two triangles; a 4 mm ball 1 mm above its centre: every vertex is > 2.4 cm away.
   const std::string urdf = R"(<robot name="b"><link name="ball"><collision><geometry><sphere radius="0.004"/></geometry>
     </collision></link></robot>)";
-  const de::ros_layer::ToolTip ball = de::ros_layer::toolTipFromUrdf(urdf, "ball");
+  const de::enrichment::ToolTip ball = de::enrichment::toolTipFromUrdf(urdf, "ball");
   Eigen::Matrix3Xf surface(3, 4);
   surface << -0.02f, 0.02f, 0.02f, -0.02f, -0.02f, -0.02f, 0.02f, 0.02f, 0.0f, 0.0f, 0.0f, 0.0f;
   Eigen::Matrix3Xi triangles(3, 2);
   triangles << 0, 0, 1, 2, 2, 3;
-  const Eigen::Matrix3Xd normals = Eigen::Vector3d::UnitZ().replicate(1, 4);
-  tf2_ros::Buffer tf;
-  de::ros_layer::ContactTracker tracker(tf, ros::Duration(0.5));
-  geometry_msgs::PoseStamped pose;
-  pose.header.stamp = ros::Time(10.0);
-  pose.pose.position.x = 0.003;
-  pose.pose.position.z = 0.005;
-  pose.pose.orientation.w = 1.0;
-  tracker.updateFromToolPose(pose, "ball", "slab", surface, normals, 0.003, ball);
-  EXPECT_TRUE(tracker.active(pose.header.stamp).empty()) << "the vertices alone are far from the ball";
-  tracker.updateFromToolPose(pose, "ball", "slab", surface, normals, 0.003, ball, &triangles);
-  const auto active = tracker.active(pose.header.stamp);
-  ASSERT_EQ(active.size(), 1u) << "the triangles are 1 mm from the ball";
-  EXPECT_LT((active[0].position - Eigen::Vector3d(0.003, 0.0, 0.0)).norm(), 1e-9) << "the point under the ball";
-  pose.pose.position.z = 0.0075;  // 3.5 mm above: free
-  tracker.updateFromToolPose(pose, "ball", "slab", surface, normals, 0.003, ball, &triangles);
-  EXPECT_TRUE(tracker.active(pose.header.stamp).empty());
+  Eigen::ArrayXf scratch;
+  const Eigen::Isometry3d pose(Eigen::Translation3d(0.003, 0.0, 0.005));
+  EXPECT_FALSE(de::enrichment::toolProximity(pose, ball, surface, 0.003, nullptr, scratch).inContact)
+      << "the vertices alone are far from the ball";
+  const auto touching = de::enrichment::toolProximity(pose, ball, surface, 0.003, &triangles, scratch);
+  ASSERT_TRUE(touching.inContact) << "the triangles are 1 mm from the ball";
+  EXPECT_LT((touching.point - Eigen::Vector3d(0.003, 0.0, 0.0)).norm(), 1e-9) << "the point under the ball";
+  const Eigen::Isometry3d higher(Eigen::Translation3d(0.003, 0.0, 0.0075));  // 3.5 mm above: free
+  EXPECT_FALSE(de::enrichment::toolProximity(higher, ball, surface, 0.003, &triangles, scratch).inContact);
 }
 
-TEST(ToolTipGeometry, ContactTrackerUsesTheTipPoseOrientation) {
+TEST(ToolTipGeometry, ProximityUsesTheTipPoseOrientation) {
   // A rod (r = 2 mm, 40 mm long along its link's z, centred on the link origin) over a flat patch at z = 0.
   // At 10 mm height upright it pierces the surface (its lower end is 10 mm below); turned 90 degrees about y it lies
   // along x, 8 mm above (free); lowered to 5 mm, 3 mm above (in contact under its axis).
   const std::string urdf = R"(<robot name="rod_test"><link name="rod"><collision>
     <geometry><cylinder radius="0.002" length="0.04"/></geometry></collision></link></robot>)";
-  const de::ros_layer::ToolTip rod = de::ros_layer::toolTipFromUrdf(urdf, "rod");
+  const de::enrichment::ToolTip rod = de::enrichment::toolTipFromUrdf(urdf, "rod");
   Eigen::Matrix3Xf surface(3, 121);
   for (int i = 0; i < 11; ++i)
     for (int j = 0; j < 11; ++j) surface.col(11 * i + j) = Eigen::Vector3f(-0.025f + 0.005f * i, -0.025f + 0.005f * j, 0.0f);
-  const Eigen::Matrix3Xd normals = Eigen::Vector3d::UnitZ().replicate(1, 121);
-  tf2_ros::Buffer tf;
-  de::ros_layer::ContactTracker tracker(tf, ros::Duration(0.5));
-  geometry_msgs::PoseStamped pose;
-  pose.header.frame_id = "slab";
-  pose.header.stamp = ros::Time(10.0);
-  pose.pose.position.x = 0.0025;  // between grid columns
-  pose.pose.position.z = 0.01;
-  pose.pose.orientation.w = 1.0;
-  tracker.updateFromToolPose(pose, "rod", "slab", surface, normals, 0.0035, rod);
-  auto active = tracker.active(pose.header.stamp);
-  ASSERT_EQ(active.size(), 1u) << "upright, the rod pierces the surface";
-  EXPECT_LE((active[0].position - Eigen::Vector3d(0.0025, 0.0, 0.0)).norm(), 0.0036) << "a vertex under the rod's end";
-  pose.pose.orientation.w = std::sqrt(0.5);
-  pose.pose.orientation.y = std::sqrt(0.5);
-  tracker.updateFromToolPose(pose, "rod", "slab", surface, normals, 0.0035, rod);
-  EXPECT_TRUE(tracker.active(pose.header.stamp).empty()) << "lying along x 10 mm up, the rod is 8 mm above the surface";
-  pose.pose.position.z = 0.005;
-  tracker.updateFromToolPose(pose, "rod", "slab", surface, normals, 0.0035, rod);
-  active = tracker.active(pose.header.stamp);
-  ASSERT_EQ(active.size(), 1u) << "lying along x 5 mm up, the rod is 3 mm above the surface";
-  EXPECT_NEAR(active[0].position.z(), 0.0, 1e-9);
-  EXPECT_LE(std::abs(active[0].position.y()), 1e-6) << "the contact lies under the rod's axis";
-  EXPECT_LE(std::abs(active[0].position.x() - 0.0025), 0.0201) << "and along its length";
-  pose.pose.orientation.w = 0.5;  // not a unit quaternion: refused for a shaped tip
-  EXPECT_THROW(tracker.updateFromToolPose(pose, "rod", "slab", surface, normals, 0.0035, rod), de::InvalidInputError);
+  Eigen::ArrayXf scratch;
+  const auto contact = [&](double z, const Eigen::Quaterniond& orientation) {
+    const Eigen::Isometry3d pose = de::enrichment::toolLinkPose(Eigen::Vector3d(0.0025, 0.0, z), orientation, rod, "rod");
+    return de::enrichment::toolProximity(pose, rod, surface, 0.0035, nullptr, scratch);
+  };
+  auto touching = contact(0.01, Eigen::Quaterniond::Identity());  // between grid columns
+  ASSERT_TRUE(touching.inContact) << "upright, the rod pierces the surface";
+  EXPECT_LE((touching.point - Eigen::Vector3d(0.0025, 0.0, 0.0)).norm(), 0.0036) << "a vertex under the rod's end";
+  const Eigen::Quaterniond lying(std::sqrt(0.5), 0.0, std::sqrt(0.5), 0.0);
+  EXPECT_FALSE(contact(0.01, lying).inContact) << "lying along x 10 mm up, the rod is 8 mm above the surface";
+  touching = contact(0.005, lying);
+  ASSERT_TRUE(touching.inContact) << "lying along x 5 mm up, the rod is 3 mm above the surface";
+  EXPECT_NEAR(touching.point.z(), 0.0, 1e-9);
+  EXPECT_LE(std::abs(touching.point.y()), 1e-6) << "the contact lies under the rod's axis";
+  EXPECT_LE(std::abs(touching.point.x() - 0.0025), 0.0201) << "and along its length";
+  // Not a unit quaternion: refused for a shaped tip, ignored by a point tip.
+  EXPECT_THROW(contact(0.005, Eigen::Quaterniond(0.5, 0.0, 0.5, 0.0)), de::InvalidInputError);
+  EXPECT_NO_THROW(de::enrichment::toolLinkPose(Eigen::Vector3d::Zero(), Eigen::Quaterniond(0, 0, 0, 0), {}, "point"));
+  EXPECT_THROW(de::enrichment::toolLinkPose(Eigen::Vector3d(NAN, 0, 0), Eigen::Quaterniond::Identity(), {}, "point"),
+               de::InvalidInputError);
 }
 
 }  // namespace

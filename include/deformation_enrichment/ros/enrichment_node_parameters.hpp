@@ -1,0 +1,34 @@
+#pragma once
+// Every start-up parameter of the enrichment node (config/enrichment.yaml documents them), read once and
+// checked: a value out of range is logged with what is used instead, so the node always starts.
+#include <ros/node_handle.h>
+
+#include <optional>
+#include <string>
+
+#include "deformation_enrichment/enrichment/enrichment_session.hpp"
+#include "deformation_enrichment/ros/enrichment_markers.hpp"
+
+namespace deformation_enrichment::ros_layer {
+
+struct EnrichmentNodeParameters {
+  std::string scene;          ///< ~scene: a shipped scene name or a scene file (surface, units, volume)
+  std::string restMeshFile;   ///< ~rest_mesh_file (used when there is no ~scene)
+  std::string exampleSet;     ///< ~example_set
+  enrichment::EnrichmentKnobs knobs;       ///< start-up values of the reconfigurable knobs
+  enrichment::SessionOptions session;      ///< window scale, continuity, site density (log not set here)
+  std::optional<double> maxOutside;        ///< ~max_outside when set (else the scene's, else 2 mm)
+  double segmentationScale = 0.005;        ///< ~descriptor_scale
+  double contactTimeout = 0.5;
+  double toolContactDistance = 0.003;
+  std::string toolPoseId = "tool_pose", toolTipLink;
+  MarkerOptions markers;
+  double markerRate = 5.0;
+  double errorThrottle = 1.0;
+  double minRate = 1.0, maxRate = 1000.0;
+};
+
+/// Reads the private parameters; bad values are logged (ROS_ERROR) and replaced by their defaults.
+EnrichmentNodeParameters readEnrichmentNodeParameters(const ros::NodeHandle& privateNh);
+
+}  // namespace deformation_enrichment::ros_layer

@@ -1,0 +1,124 @@
+// The frame path of EnrichmentSession: a state in, its enriched positions out (docs/design.md §6). The
+// configuration side (rest surfaces, example sets, knobs, the rebuild worker) is session_configuration.cpp.
+#include <cstring>
+
+#include "deformation_enrichment/enrichment/enrichment_session.hpp"
+#include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/mesh/mesh_state.hpp"
+#include "session_built.hpp"
+
+namespace deformation_enrichment::enrichment {
+namespace {
+
+bool sameContact(const Contact& a, const Contact& b) {
+  return a.point == b.point && a.restState == b.restState && a.normal == b.normal && a.toolId == b.toolId &&
+         a.previousFrameAxis == b.previousFrameAxis && a.releasedMagnitude == b.releasedMagnitude;
+}
+
+}  // namespace
+
+std::shared_ptr<const RestSurface> EnrichmentSession::restFor(Eigen::Index vertices) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (active_ && active_->geometry.surface.numVertices() == vertices) return active_;
+  if (pending_ && pending_->geometry.surface.numVertices() == vertices) return pending_;
+  return nullptr;
+}
+
+bool EnrichmentSession::unchanged(const Eigen::Matrix3Xf& positions, const std::vector<Contact>& contacts) const {
+  if (!memoValid_ || memoConfig_ != configVersion_ || memoRest_ != active_->version) return false;
+  if (temporalFilter_.timeConstant() > 0.0) return false;  // its output moves on every state
+  if (contacts.size() != memoContacts_.size() || !std::equal(contacts.begin(), contacts.end(), memoContacts_.begin(), sameContact))
+    return false;
+  // One pass over the buffer (~0.1 ms per 100k points), far below describing, blending and mapping.
+  return positions.cols() == memoInput_.cols() &&
+         std::memcmp(positions.data(), memoInput_.data(), sizeof(float) * static_cast<std::size_t>(positions.size())) == 0;
+}
+
+void EnrichmentSession::enrichContacts(const Eigen::Matrix3Xf& positions, const std::vector<Contact>& contacts, double dt) {
+  const Eigen::Matrix3Xd current = positions.cast<double>();
+  enricher_->enricher->enrich(current, contacts, scratch_);
+  SurfaceEnrichment& touched = scratch_.enrichment;
+  temporalFilter_.filter(touched, dt, current.cols());  // a dt <= 0 (stamps going backwards) restarts it
+  enriched_ = positions;
+  for (std::size_t k = 0; k < touched.vertices.size(); ++k)
+    enriched_.col(touched.vertices[k]) += touched.displacements.col(static_cast<Eigen::Index>(k)).cast<float>();
+  if (!enriched_.allFinite()) {
+    temporalFilter_.reset();
+    throw NumericalError("enrichment produced a non-finite position");
+  }
+  continuity_.update(scratch_);
+  result_.kind = FrameResult::Kind::Enriched;
+  result_.changed = !touched.vertices.empty();
+  result_.verticesTouched = static_cast<std::uint32_t>(touched.vertices.size());
+  result_.releasedSites = static_cast<std::uint32_t>(continuity_.releasedSites());
+  for (const ContactOutcome& outcome : scratch_.contacts) {
+    result_.confidence = std::max(result_.confidence, static_cast<float>(outcome.confidence));
+    for (Eigen::Index i = 0; i < outcome.weights.size(); ++i) {
+      if (std::abs(outcome.weights[i]) < 1e-3) continue;  // report the examples that matter
+      result_.exampleIds.push_back(static_cast<std::uint32_t>(i));
+      result_.weights.push_back(static_cast<float>(outcome.weights[i]));
+    }
+  }
+}
+
+const FrameResult& EnrichmentSession::enrich(const Eigen::Matrix3Xf& positions, const std::vector<ToolContact>& touching,
+                                             double stampSeconds) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const bool onActive = active_ && active_->geometry.surface.numVertices() == positions.cols();
+  const bool onPending = !onActive && pending_ && pending_->geometry.surface.numVertices() == positions.cols();
+  if (!onActive && !onPending) {
+    const RestSurface* newest = pending_ ? pending_.get() : active_.get();
+    throw InvalidInputError(newest ? "mesh state has " + std::to_string(positions.cols()) + " points but the rest mesh has " +
+                                         std::to_string(newest->geometry.surface.numVertices())
+                                   : std::string("no rest surface yet"));
+  }
+  mesh::validateMeshState(positions, positions.cols());
+  const double dt = hasLastStamp_ ? stampSeconds - lastStamp_ : 0.0;
+  lastStamp_ = stampSeconds;
+  hasLastStamp_ = true;
+
+  // Tools in contact, then the sites released tools left deformed; a fading filter needs states too.
+  std::vector<Contact> contacts;
+  if (onActive && enricher_ && enricher_->enricher) {
+    std::vector<Contact> tools;
+    for (const ToolContact& tool : touching) {
+      Contact contact;
+      contact.point = tool.point;
+      contact.restState = false;  // contacts live in the current (mesh-state) frame
+      contact.toolId = toolNumbers_.emplace(tool.toolId, static_cast<int>(toolNumbers_.size())).first->second;
+      tools.push_back(contact);
+    }
+    contacts = continuity_.contactsFor(tools);
+  }
+  if (contacts.empty() && !(onActive && enricher_ && enricher_->enricher && temporalFilter_.fading())) {
+    result_ = FrameResult();
+    result_.restPending = onPending;
+    if (!touching.empty())
+      result_.note = onPending ? "the enricher of the new rest surface is being built" : "no example set loaded";
+    temporalFilter_.reset();  // nothing enriched: a later contact starts the filter afresh
+    memoValid_ = false;
+    return result_;
+  }
+  if (unchanged(positions, contacts)) {
+    result_.kind = FrameResult::Kind::Reused;
+    ++stats_.statesReused;
+    return result_;
+  }
+  result_ = FrameResult();
+  memoValid_ = false;
+  try {
+    enrichContacts(positions, contacts, dt);
+  } catch (const Error& e) {
+    result_ = FrameResult();
+    result_.error = e.what();
+    return result_;
+  }
+  memoValid_ = true;
+  memoInput_ = positions;
+  memoContacts_ = std::move(contacts);
+  memoConfig_ = configVersion_;
+  memoRest_ = active_->version;
+  return result_;
+}
+
+}  // namespace deformation_enrichment::enrichment

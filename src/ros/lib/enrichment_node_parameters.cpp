@@ -1,0 +1,88 @@
+#include "deformation_enrichment/ros/enrichment_node_parameters.hpp"
+
+#include <ros/console.h>
+
+#include <cmath>
+
+#include "deformation_enrichment/error.hpp"
+
+namespace deformation_enrichment::ros_layer {
+namespace {
+
+// ~name as a double that `valid` accepts, else `fallback` (logged).
+template <typename Valid>
+double checked(const ros::NodeHandle& nh, const char* name, double fallback, Valid valid, const char* expected) {
+  const double value = nh.param(name, fallback);
+  if (valid(value)) return value;
+  ROS_ERROR("~%s must be %s, got %g: using %g", name, expected, value, fallback);
+  return fallback;
+}
+
+bool positive(double v) { return v > 0.0 && std::isfinite(v); }
+bool nonNegative(double v) { return v >= 0.0 && std::isfinite(v); }
+
+void readSession(const ros::NodeHandle& nh, EnrichmentNodeParameters& p) {
+  enrichment::ContactEnricherOptions& defaults = p.session.defaults;
+  p.segmentationScale = checked(nh, "descriptor_scale", p.segmentationScale, positive, "positive");
+  defaults.descriptors.window.scale = p.segmentationScale;
+  defaults.sampleSpacing = checked(nh, "segmentation_sample_spacing", 0.0, nonNegative, ">= 0 (0: h / 4)");
+  enrichment::ContactContinuityOptions continuity;
+  continuity.followRelease = nh.param("follow_release", true);
+  continuity.releaseFloor = nh.param("release_floor", continuity.releaseFloor);
+  continuity.matchRadius = nh.param("site_match_radius", continuity.matchRadius);
+  try {
+    enrichment::ContactContinuity check(continuity);
+    p.session.continuity = continuity;
+  } catch (const Error& e) {
+    ROS_ERROR("~release_floor or ~site_match_radius rejected: %s (keeping %g and %g)", e.what(),
+              p.session.continuity.releaseFloor, p.session.continuity.matchRadius);
+    p.session.continuity.followRelease = continuity.followRelease;
+  }
+  descriptors::SiteDensityOptions& density = p.session.density;
+  const std::string source = nh.param<std::string>("site_density", "auto");
+  try {
+    density.source = descriptors::parseSiteDensitySource(source);
+  } catch (const Error& e) {
+    ROS_ERROR("~site_density: %s; using auto", e.what());
+  }
+  density.shellThickness = checked(nh, "shell_thickness", 0.0, nonNegative, ">= 0 (0: three window scales)");
+  if (nh.hasParam("max_outside")) p.maxOutside = checked(nh, "max_outside", density.maxOutside, nonNegative, ">= 0");
+}
+
+void readKnobs(const ros::NodeHandle& nh, enrichment::EnrichmentKnobs& k) {
+  // Start-up values; the reconfigure server reads the same parameters (its ranges apply later).
+  k.stampGain = checked(nh, "stamp_gain", k.stampGain, nonNegative, ">= 0");
+  k.sigmaRho = checked(nh, "sigma_rho", k.sigmaRho, [](double v) { return std::isfinite(v); }, "finite");
+  k.sigmaU = checked(nh, "sigma_u", k.sigmaU, [](double v) { return std::isfinite(v); }, "finite");
+  k.hermiteOrder = nh.param("hermite_order", k.hermiteOrder);
+  if (k.hermiteOrder < 0) {
+    ROS_ERROR("~hermite_order must be >= 0 (0: the set's), got %d: using 0", k.hermiteOrder);
+    k.hermiteOrder = 0;
+  }
+  k.minConfidence = checked(nh, "min_confidence", k.minConfidence, [](double v) { return v >= 0.0 && v <= 1.0; }, "in [0, 1]");
+  k.temporalSmoothing = checked(nh, "temporal_smoothing", k.temporalSmoothing, nonNegative, ">= 0");
+}
+
+}  // namespace
+
+EnrichmentNodeParameters readEnrichmentNodeParameters(const ros::NodeHandle& nh) {
+  EnrichmentNodeParameters p;
+  p.scene = nh.param<std::string>("scene", "");
+  p.restMeshFile = nh.param<std::string>("rest_mesh_file", "");
+  p.exampleSet = nh.param<std::string>("example_set", "");
+  readKnobs(nh, p.knobs);
+  readSession(nh, p);
+  p.contactTimeout = checked(nh, "contact_timeout", p.contactTimeout, positive, "positive");
+  p.toolContactDistance = checked(nh, "tool_contact_distance", p.toolContactDistance, nonNegative, ">= 0");
+  p.toolPoseId = nh.param<std::string>("tool_pose_id", p.toolPoseId);
+  p.toolTipLink = nh.param<std::string>("tool_tip_link", "");
+  p.markers = markerOptionsFromParams(nh);
+  p.markerRate = checked(nh, "marker_rate", p.markerRate, nonNegative, ">= 0 (0: no markers)");
+  p.errorThrottle = checked(nh, "error_throttle", p.errorThrottle, nonNegative, ">= 0");
+  p.minRate = checked(nh, "expected_rate_min", p.minRate, nonNegative, ">= 0");
+  p.maxRate = checked(nh, "expected_rate_max", p.maxRate, [&](double v) { return v >= p.minRate && std::isfinite(v); },
+                      ">= expected_rate_min");
+  return p;
+}
+
+}  // namespace deformation_enrichment::ros_layer

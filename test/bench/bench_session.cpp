@@ -1,0 +1,136 @@
+// What the enrichment node's frame path costs through the EnrichmentSession, on the ~50k-vertex slab with 10
+// examples (slab_bench_scene.hpp):
+//   Session/EnrichMoving/50k: one state with the contact moving to another of 8 rest points every state (the
+//     rest-point caches miss): float state in, continuity, the enricher, enriched float state out; next to
+//     Session/Copy/50k, copying the float state (what publishing an unchanged state costs at least).
+//   Rebuild/Offthread/50k vs Rebuild/Onthread/50k: a new rest surface (a cut: another topology of ~50k
+//     vertices) arrives while states come at 60 Hz. The reported time of an iteration is the longest delay of
+//     an output behind its input's due time over the episode (manual time): with the session the enricher is
+//     built on its worker and states keep flowing; the baseline builds it on the frame thread, as the node did
+//     before the session (its setRestMesh), so the states behind it wait.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <thread>
+
+#include "deformation_enrichment/enrichment/enrichment_session.hpp"
+#include "ratio_reporter.hpp"
+#include "slab_bench_scene.hpp"
+
+namespace de = deformation_enrichment;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr double kPeriod = 1.0 / 60.0;
+
+std::unique_ptr<de::enrichment::EnrichmentSession> session(const de::mesh::TriangleMesh& rest) {
+  auto s = std::make_unique<de::enrichment::EnrichmentSession>(de::enrichment::SessionOptions());
+  s->setExampleSet(de_bench::slabBenchScene().set);
+  s->setRestGeometry({rest, std::nullopt, "bench"});
+  s->waitForRebuild();
+  return s;
+}
+
+void BM_SessionEnrichMoving(benchmark::State& state) {
+  const de_bench::SlabBenchScene& scene = de_bench::slabBenchScene();
+  auto s = session(scene.surface);
+  const Eigen::Matrix3Xf current = scene.current.cast<float>();
+  int frame = 0;
+  std::size_t touched = 0;
+  for (auto _ : state) {
+    const Eigen::Vector3d point = scene.contact + Eigen::Vector3d(0.001 * (frame % 8), 0.0, 0.0);
+    const de::enrichment::FrameResult& result = s->enrich(current, {{"tool", point}}, 0.01 * frame++);
+    touched = result.verticesTouched;
+    benchmark::DoNotOptimize(s->enrichedPositions().data());
+  }
+  state.counters["vertices"] = static_cast<double>(current.cols());
+  state.counters["touched"] = static_cast<double>(touched);
+}
+
+void BM_SessionCopy(benchmark::State& state) {
+  const Eigen::Matrix3Xf current = de_bench::slabBenchScene().current.cast<float>();
+  Eigen::Matrix3Xf copy;
+  for (auto _ : state) {
+    copy = current;
+    benchmark::DoNotOptimize(copy.data());
+  }
+}
+
+// One episode: states at 60 Hz on `before`; after 5 states the cut surface arrives (handed to `cut`, on the
+// frame thread, as a rest-mesh callback runs in the node); states of the new topology follow; the episode
+// ends 5 states after the new surface is enriched. Returns the longest delay of an output behind its due time.
+template <typename Cut, typename Enrich, typename Ready>
+double rebuildEpisode(const Eigen::Matrix3Xf& before, const Eigen::Matrix3Xf& after, Cut cut, Enrich enrich, Ready ready) {
+  const Clock::time_point start = Clock::now();
+  double longest = 0.0;
+  int afterReady = -1;
+  for (int k = 0; afterReady < 5 && k < 600; ++k) {
+    const Clock::time_point due = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(k * kPeriod));
+    std::this_thread::sleep_until(due);
+    if (k == 5) cut();
+    enrich(k < 5 ? before : after, k * kPeriod);
+    longest = std::max(longest, std::chrono::duration<double>(Clock::now() - due).count());
+    if (afterReady >= 0 || (k >= 5 && ready())) ++afterReady;
+  }
+  return longest;
+}
+
+void BM_RebuildOffthread(benchmark::State& state) {
+  const de_bench::SlabBenchScene& scene = de_bench::slabBenchScene();
+  const de::mesh::TriangleMesh cutSurface = de_bench::slabSurface(149);  // another topology, ~49k vertices
+  const Eigen::Matrix3Xf before = scene.current.cast<float>(), after = cutSurface.vertices.cast<float>();
+  for (auto _ : state) {
+    auto s = session(scene.surface);
+    const double longest = rebuildEpisode(
+        before, after, [&] { s->setRestGeometry({cutSurface, std::nullopt, "cut"}); },
+        [&](const Eigen::Matrix3Xf& positions, double t) { s->enrich(positions, {{"tool", scene.contact}}, t); },
+        [&] { return !s->diagnostics().rebuilding; });
+    state.SetIterationTime(longest);
+  }
+}
+
+void BM_RebuildOnthread(benchmark::State& state) {
+  const de_bench::SlabBenchScene& scene = de_bench::slabBenchScene();
+  const de::mesh::TriangleMesh cutSurface = de_bench::slabSurface(149);
+  const Eigen::Matrix3Xf before = scene.current.cast<float>(), after = cutSurface.vertices.cast<float>();
+  for (auto _ : state) {
+    auto enricher = std::make_unique<de::enrichment::ContactEnricher>(scene.surface, scene.options);
+    enricher->setExamples(scene.set);
+    de::enrichment::EnrichmentResult result;
+    const double longest = rebuildEpisode(
+        before, after,
+        [&] {
+          enricher = std::make_unique<de::enrichment::ContactEnricher>(cutSurface, scene.options);
+          enricher->setExamples(scene.set);
+        },
+        [&](const Eigen::Matrix3Xf& positions, double) {
+          de::enrichment::Contact contact;
+          contact.point = scene.contact;
+          contact.restState = false;
+          enricher->enrich(positions.cast<double>(), {contact}, result);
+        },
+        [] { return true; });
+    state.SetIterationTime(longest);
+  }
+}
+
+}  // namespace
+
+BENCHMARK(BM_SessionEnrichMoving)->Name("Session/EnrichMoving/50k")->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SessionCopy)->Name("Session/Copy/50k")->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_RebuildOffthread)->Name("Rebuild/Offthread/50k")->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(3);
+BENCHMARK(BM_RebuildOnthread)->Name("Rebuild/Onthread/50k")->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(3);
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  de_bench::RatioReporter reporter;
+  benchmark::RunSpecifiedBenchmarks(&reporter);
+  reporter.printRatios("EnrichMoving", "Copy");
+  reporter.printRatios("Offthread", "Onthread");
+  std::printf("(Rebuild: the longest delay of an output behind its input at 60 Hz while a new 50k-vertex rest surface is "
+              "built; goal: below one period, %.1f ms)\n", 1e3 * kPeriod);
+  benchmark::Shutdown();
+  return 0;
+}
