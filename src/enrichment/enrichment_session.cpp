@@ -35,10 +35,10 @@ bool EnrichmentSession::unchanged(const Eigen::Matrix3Xf& positions, const std::
 }
 
 void EnrichmentSession::enrichContacts(const Eigen::Matrix3Xf& positions, const std::vector<Contact>& contacts, double dt) {
-  const Eigen::Matrix3Xd current = positions.cast<double>();
-  enricher_->enricher->enrich(current, contacts, scratch_);
+  current_ = positions.cast<double>();  // into the buffer of the last state: no allocation per state
+  enricher_->enricher->enrich(current_, contacts, scratch_);
   SurfaceEnrichment& touched = scratch_.enrichment;
-  temporalFilter_.filter(touched, dt, current.cols());  // a dt <= 0 (stamps going backwards) restarts it
+  temporalFilter_.filter(touched, dt, current_.cols());  // a dt <= 0 (stamps going backwards) restarts it
   enriched_ = positions;
   for (std::size_t k = 0; k < touched.vertices.size(); ++k)
     enriched_.col(touched.vertices[k]) += touched.displacements.col(static_cast<Eigen::Index>(k)).cast<float>();

@@ -1,7 +1,8 @@
 // What the enrichment node's frame path costs through the EnrichmentSession, on the ~50k-vertex slab with 10
 // examples (slab_bench_scene.hpp):
-//   Session/EnrichMoving/50k: one state with the contact moving to another of 8 rest points every state (the
-//     rest-point caches miss): float state in, continuity, the enricher, enriched float state out; next to
+//   Session/EnrichMoving/50k: one state with the tool sliding 0.5 mm per state, back and forth over 4 mm (every
+//     state touches a new rest point, so the rest-point caches miss; one site, as a sliding tool makes): float
+//     state in, continuity, the enricher, enriched float state out; next to
 //     Session/Copy/50k, copying the float state (what publishing an unchanged state costs at least).
 //   Rebuild/Offthread/50k vs Rebuild/Onthread/50k: a new rest surface (a cut: another topology of ~50k
 //     vertices) arrives while states come at 60 Hz. The reported time of an iteration is the longest delay of
@@ -38,15 +39,18 @@ void BM_SessionEnrichMoving(benchmark::State& state) {
   auto s = session(scene.surface);
   const Eigen::Matrix3Xf current = scene.current.cast<float>();
   int frame = 0;
-  std::size_t touched = 0;
+  std::size_t touched = 0, released = 0;
   for (auto _ : state) {
-    const Eigen::Vector3d point = scene.contact + Eigen::Vector3d(0.001 * (frame % 8), 0.0, 0.0);
+    const int step = frame % 16;
+    const Eigen::Vector3d point = scene.contact + Eigen::Vector3d(0.0005 * (step < 8 ? step : 16 - step), 0.0, 0.0);
     const de::enrichment::FrameResult& result = s->enrich(current, {{"tool", point}}, 0.01 * frame++);
     touched = result.verticesTouched;
+    released = result.releasedSites;
     benchmark::DoNotOptimize(s->enrichedPositions().data());
   }
   state.counters["vertices"] = static_cast<double>(current.cols());
   state.counters["touched"] = static_cast<double>(touched);
+  state.counters["released_sites"] = static_cast<double>(released);
 }
 
 void BM_SessionCopy(benchmark::State& state) {

@@ -180,6 +180,7 @@ private:
   TemporalFilter temporalFilter_;
   std::map<std::string, int> toolNumbers_;
   EnrichmentResult scratch_;
+  Eigen::Matrix3Xd current_;  // the state in double precision (the enricher's)
   FrameResult result_;
   Eigen::Matrix3Xf enriched_;
   double lastStamp_ = 0.0;
