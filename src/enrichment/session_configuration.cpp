@@ -8,6 +8,7 @@
 #include "deformation_enrichment/enrichment/enrichment_session.hpp"
 #include "deformation_enrichment/enrichment/example_set_options.hpp"
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/mesh/surface_report.hpp"
 #include "session_built.hpp"
 
 namespace deformation_enrichment::enrichment {
@@ -21,6 +22,19 @@ bool sameGeometry(const RestGeometry& a, const RestGeometry& b) {
   if (!sameSurface(a.surface, b.surface) || a.volume.has_value() != b.volume.has_value()) return false;
   return !a.volume || (a.volume->vertices.cols() == b.volume->vertices.cols() && a.volume->tets.cols() == b.volume->tets.cols() &&
                        a.volume->vertices == b.volume->vertices && a.volume->tets == b.volume->tets);
+}
+
+// What real display surfaces bring along and how it is handled (nothing here stops the enrichment).
+bool flawed(const mesh::SurfaceReport& r) {
+  return r.nonManifoldEdges > 0 || r.misorientedEdges > 0 || r.duplicateVertices > 0 || r.degenerateTriangles > 0;
+}
+
+std::string flawNote(const mesh::SurfaceReport& r) {
+  std::string note;
+  if (r.duplicateVertices > 0) note += "; duplicate vertices are kept apart (a stamp does not cross between them, as across a cut)";
+  if (r.degenerateTriangles > 0) note += "; zero-area triangles add nothing to normals and areas";
+  if (r.misorientedEdges > 0) note += "; inconsistent orientation: normals and a shell may point the wrong way there";
+  return note;
 }
 
 void checkKnobs(const EnrichmentKnobs& k) {
@@ -114,7 +128,9 @@ void EnrichmentSession::rebuildLoop() {
     const auto start = std::chrono::steady_clock::now();
     std::unique_ptr<Built> built;
     std::string error;
+    mesh::SurfaceReport report;
     try {
+      report = mesh::inspectSurface(rest->geometry.surface);
       built = set ? build(*rest, *set, knobs) : std::make_unique<Built>();
       built->restVersion = rest->version;
     } catch (const Error& e) {
@@ -147,10 +163,9 @@ void EnrichmentSession::rebuildLoop() {
       log(SessionLogLevel::Error, "rest surface from " + rest->geometry.source + " refused: " + error +
                                       " (keeping the previous rest surface)");
     else if (current)
-      log(SessionLogLevel::Info, "rest surface from " + rest->geometry.source + ": " +
-                                     std::to_string(rest->geometry.surface.numVertices()) + " vertices, " +
-                                     std::to_string(rest->geometry.surface.numTriangles()) + " triangles, enricher built in " +
-                                     std::to_string(seconds) + " s" + (siteDensity.empty() ? "" : "; site density: " + siteDensity));
+      log(flawed(report) ? SessionLogLevel::Warning : SessionLogLevel::Info,
+          "rest surface from " + rest->geometry.source + ": " + mesh::describe(report) + flawNote(report) +
+              "; enricher built in " + std::to_string(seconds) + " s" + (siteDensity.empty() ? "" : "; site density: " + siteDensity));
     lock.lock();
     building_ = false;  // only now, so waitForRebuild() returns after the outcome is logged
     changed_.notify_all();

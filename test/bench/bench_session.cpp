@@ -9,10 +9,15 @@
 //     an output behind its input's due time over the episode (manual time): with the session the enricher is
 //     built on its worker and states keep flowing; the baseline builds it on the frame thread, as the node did
 //     before the session (its setRestMesh), so the states behind it wait.
+//   Scale/1M/... vs Scale/50k/...: a ~1M-vertex rest surface (700 x 700 x 1 cells) against the 50k one: the
+//     time from setRestGeometry to a built enricher (Build, one iteration, manual time) with the process's
+//     resident memory after it (counter rss_mb, /proc/self/status), and a sliding state (EnrichMoving).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <chrono>
+#include <fstream>
+#include <string>
 #include <thread>
 
 #include "deformation_enrichment/enrichment/enrichment_session.hpp"
@@ -34,23 +39,63 @@ std::unique_ptr<de::enrichment::EnrichmentSession> session(const de::mesh::Trian
   return s;
 }
 
-void BM_SessionEnrichMoving(benchmark::State& state) {
-  const de_bench::SlabBenchScene& scene = de_bench::slabBenchScene();
-  auto s = session(scene.surface);
-  const Eigen::Matrix3Xf current = scene.current.cast<float>();
+// The tool's contact sliding 0.5 mm per state, back and forth over 4 mm from `start`.
+Eigen::Vector3d slidingPoint(const Eigen::Vector3d& start, int frame) {
+  const int step = frame % 16;
+  return start + Eigen::Vector3d(0.0005 * (step < 8 ? step : 16 - step), 0.0, 0.0);
+}
+
+double residentMegabytes() {
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);)
+    if (line.rfind("VmRSS:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;  // kB
+  return 0.0;
+}
+
+void enrichSliding(benchmark::State& state, de::enrichment::EnrichmentSession& s, const Eigen::Matrix3Xf& current,
+                   const Eigen::Vector3d& contact) {
   int frame = 0;
   std::size_t touched = 0, released = 0;
   for (auto _ : state) {
-    const int step = frame % 16;
-    const Eigen::Vector3d point = scene.contact + Eigen::Vector3d(0.0005 * (step < 8 ? step : 16 - step), 0.0, 0.0);
-    const de::enrichment::FrameResult& result = s->enrich(current, {{"tool", point}}, 0.01 * frame++);
+    const de::enrichment::FrameResult& result = s.enrich(current, {{"tool", slidingPoint(contact, frame)}}, 0.01 * frame);
+    ++frame;
     touched = result.verticesTouched;
     released = result.releasedSites;
-    benchmark::DoNotOptimize(s->enrichedPositions().data());
+    benchmark::DoNotOptimize(s.enrichedPositions().data());
   }
   state.counters["vertices"] = static_cast<double>(current.cols());
   state.counters["touched"] = static_cast<double>(touched);
   state.counters["released_sites"] = static_cast<double>(released);
+}
+
+void BM_SessionEnrichMoving(benchmark::State& state) {
+  const de_bench::SlabBenchScene& scene = de_bench::slabBenchScene();
+  auto s = session(scene.surface);
+  const Eigen::Matrix3Xf current = scene.current.cast<float>();
+  enrichSliding(state, *s, current, scene.contact);
+}
+
+// `cells` x `cells` x 1 slab cells: 700 gives ~1M surface vertices.
+void BM_ScaleBuild(benchmark::State& state, int cells) {
+  const de::mesh::TriangleMesh surface = de_bench::slabSurface(cells, 1);
+  for (auto _ : state) {
+    de::enrichment::EnrichmentSession s{de::enrichment::SessionOptions()};
+    s.setExampleSet(de_bench::slabBenchScene().set);
+    const Clock::time_point start = Clock::now();
+    s.setRestGeometry({surface, std::nullopt, "scale"});
+    s.waitForRebuild();
+    state.SetIterationTime(std::chrono::duration<double>(Clock::now() - start).count());
+    state.counters["rss_mb"] = residentMegabytes();
+  }
+  state.counters["vertices"] = static_cast<double>(surface.numVertices());
+}
+
+void BM_ScaleEnrichMoving(benchmark::State& state, int cells) {
+  const de::mesh::TriangleMesh surface = de_bench::slabSurface(cells, 1);
+  auto s = session(surface);
+  const Eigen::Vector3d contact(0.003, -0.002, 0.02);
+  const Eigen::Matrix3Xf current = de_bench::dented(surface.vertices, contact, 0.0025, Eigen::Vector3d(0.0004, 0, 0)).cast<float>();
+  enrichSliding(state, *s, current, contact);
 }
 
 void BM_SessionCopy(benchmark::State& state) {
@@ -124,6 +169,10 @@ void BM_RebuildOnthread(benchmark::State& state) {
 
 BENCHMARK(BM_SessionEnrichMoving)->Name("Session/EnrichMoving/50k")->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SessionCopy)->Name("Session/Copy/50k")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_ScaleBuild, large, 700)->Name("Scale/1M/Build")->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(1);
+BENCHMARK_CAPTURE(BM_ScaleBuild, small, 150)->Name("Scale/50k/Build")->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(1);
+BENCHMARK_CAPTURE(BM_ScaleEnrichMoving, large, 700)->Name("Scale/1M/EnrichMoving")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_ScaleEnrichMoving, small, 150)->Name("Scale/50k/EnrichMoving")->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RebuildOffthread)->Name("Rebuild/Offthread/50k")->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(3);
 BENCHMARK(BM_RebuildOnthread)->Name("Rebuild/Onthread/50k")->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(3);
 
@@ -133,6 +182,7 @@ int main(int argc, char** argv) {
   benchmark::RunSpecifiedBenchmarks(&reporter);
   reporter.printRatios("EnrichMoving", "Copy");
   reporter.printRatios("Offthread", "Onthread");
+  reporter.printRatios("1M", "50k");
   std::printf("(Rebuild: the longest delay of an output behind its input at 60 Hz while a new 50k-vertex rest surface is "
               "built; goal: below one period, %.1f ms)\n", 1e3 * kPeriod);
   benchmark::Shutdown();

@@ -27,10 +27,11 @@ inline Eigen::Matrix3Xd dented(const Eigen::Matrix3Xd& rest, const Eigen::Vector
   return x;
 }
 
-/// The slab's surface with `cells` x `cells` x 3 cells (150: 45 904 top and ~50k surface vertices).
-inline de::mesh::TriangleMesh slabSurface(int cells) {
+/// The slab's surface with `cells` x `cells` x `layers` cells (150 x 150 x 3: 45 904 top and ~50k surface
+/// vertices; 700 x 700 x 1: ~1M).
+inline de::mesh::TriangleMesh slabSurface(int cells, int layers = 3) {
   return de::mesh::extractSurface(de::mesh::gridTetMesh(Eigen::Vector3d(-0.05, -0.05, 0.0), Eigen::Vector3d(0.05, 0.05, 0.02),
-                                                        Eigen::Vector3i(cells, cells, 3)))
+                                                        Eigen::Vector3i(cells, cells, layers)))
       .surface;
 }
 

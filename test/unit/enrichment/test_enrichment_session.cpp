@@ -245,6 +245,8 @@ TEST(EnrichmentSession, BadRestSurfacesAreRefusedOrEnrichedWithTheirFlaws) {
   session->setRestGeometry({flawed, std::nullopt, "flawed"});
   session->waitForRebuild();
   ASSERT_EQ(session->diagnostics().restVertices, flawed.numVertices()) << session->diagnostics().lastRestError;
+  EXPECT_TRUE(log.contains("1 non-manifold edges")) << "the log says what the surface has";
+  EXPECT_TRUE(log.contains("1 duplicate vertices, 1 zero-area triangles; duplicate vertices are kept apart"));
   const Eigen::Matrix3Xf state = de_test::dented(flawed.vertices, kContact, 1.0).cast<float>();
   const FrameResult& result = session->enrich(state, toolAt(state, flawed), 1.0);
   EXPECT_EQ(result.kind, FrameResult::Kind::Enriched) << result.error;
