@@ -74,6 +74,12 @@ SiteDensity siteDensity(const mesh::TriangleMesh& surface, const mesh::TetMesh* 
   }
 }
 
+SiteDensityOptions forWindow(SiteDensityOptions o, double windowScale, double spacing) {
+  o.spacing = spacing > 0.0 ? spacing : windowScale / 4.0;
+  if (!(o.shellThickness > 0.0)) o.shellThickness = 3.0 * windowScale;
+  return o;
+}
+
 std::string toString(SiteDensitySource source) {
   switch (source) {
     case SiteDensitySource::Auto: return "auto";

@@ -10,6 +10,7 @@
 #include "deformation_enrichment/descriptors/deformation_descriptor.hpp"
 #include "deformation_enrichment/descriptors/interior_sampling.hpp"
 #include "deformation_enrichment/descriptors/moment_window.hpp"
+#include "deformation_enrichment/descriptors/site_density.hpp"
 #include "deformation_enrichment/descriptors/stamping_frame.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/closest_point_on_triangle.hpp"
@@ -51,10 +52,6 @@ void checkOptions(const ContactEnricherOptions& o) {
 
 }  // namespace
 
-double siteSampleSpacing(const ContactEnricherOptions& options) {
-  return options.sampleSpacing > 0.0 ? options.sampleSpacing : options.descriptors.window.scale / 4.0;
-}
-
 ContactEnricher::ContactEnricher(mesh::TriangleMesh restSurface, const ContactEnricherOptions& options,
                                  std::optional<descriptors::PointSampling> siteDensity)
     : options_(options),
@@ -66,7 +63,9 @@ ContactEnricher::ContactEnricher(mesh::TriangleMesh restSurface, const ContactEn
   for (Eigen::Index f = 0; f < rest_.triangles.cols(); ++f)
     for (int k = 0; k < 3; ++k) vertexTriangles_[static_cast<std::size_t>(rest_.triangles(k, f))].push_back(static_cast<int>(f));
   // rho integrates the material's indicator (eq. 7): volume samples of the material around the surface.
-  if (!siteDensity) siteDensity = descriptors::sampleClosedSurfaceInterior(rest_, siteSampleSpacing(options_));
+  if (!siteDensity)
+    siteDensity = descriptors::sampleClosedSurfaceInterior(
+        rest_, descriptors::forWindow({}, options_.descriptors.window.scale, options_.sampleSpacing).spacing);
   siteEvaluator_ = std::make_unique<descriptors::DescriptorEvaluator>(std::move(*siteDensity), rest_, std::vector<int>(),
                                                                       options_.descriptors);
   // mu is fitted on what the run time has: the surface vertices, weighted by their areas.

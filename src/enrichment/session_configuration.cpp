@@ -7,6 +7,7 @@
 #include "deformation_enrichment/enrichment/descriptor_order.hpp"
 #include "deformation_enrichment/enrichment/enrichment_session.hpp"
 #include "deformation_enrichment/enrichment/example_set_options.hpp"
+#include "deformation_enrichment/enrichment/surface_enricher.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/surface_report.hpp"
 #include "session_built.hpp"
@@ -80,14 +81,10 @@ std::unique_ptr<EnrichmentSession::Built> EnrichmentSession::build(const RestSur
   options.descriptors.deformationOrder = order;
   options.stampGain = knobs.stampGain;
   options.minConfidence = knobs.minConfidence;
-  descriptors::SiteDensityOptions density = options_.density;
-  density.spacing = siteSampleSpacing(options);
-  if (!(density.shellThickness > 0.0)) density.shellThickness = 3.0 * options.descriptors.window.scale;
   const mesh::TetMesh* volume = rest.geometry.volume ? &*rest.geometry.volume : nullptr;
-  descriptors::SiteDensity sites = descriptors::siteDensity(rest.geometry.surface, volume, density);
   auto result = std::make_unique<Built>();
-  result->siteDensity = sites.description;
-  result->enricher = std::make_unique<ContactEnricher>(rest.geometry.surface, options, std::move(sites.sampling));
+  result->enricher = std::make_unique<ContactEnricher>(
+      surfaceEnricher(rest.geometry.surface, volume, options, options_.density, &result->siteDensity));
   result->enricher->setExamples(withDeformationOrder(set, order));
   result->enricher->setKernelWidths(knobs.sigmaRho, knobs.sigmaU);
   result->restVersion = rest.version;

@@ -80,10 +80,11 @@ void keepReachedThroughSurface(Matches& matches, const mesh::VertexAdjacency& su
 
 }  // namespace
 
-// nanoflann over the rest vertices (column-major 3 x n, the adaptor keeps a reference to rest_).
+// nanoflann over the rest vertices (column-major 3 x n). The adaptor keeps a reference to its matrix, so the
+// tree owns a copy on the heap: moving the StampMapper (and a ContactEnricher with it) leaves it valid.
 struct StampMapper::KdTree {
   using Tree = nanoflann::KDTreeEigenMatrixAdaptor<Eigen::Matrix3Xd, 3, nanoflann::metric_L2_Simple, false>;
-  explicit KdTree(const Eigen::Matrix3Xd& points) : tree(3, std::cref(points), 16) {}
+  explicit KdTree(const Eigen::Matrix3Xd& rest) : points(rest), tree(3, std::cref(points), 16) {}
 
   /// Rest vertices within the ball, restricted to those reached through `surface` unless it is empty. A
   /// contact stays on the same rest point for many frames (the tool holds the tissue it touches), so the
@@ -108,6 +109,7 @@ struct StampMapper::KdTree {
     double squaredRadius = 0.0;
     Matches matches;
   };
+  Eigen::Matrix3Xd points;  // before `tree`, which refers to it
   Tree tree;
   std::array<Ball, 4> recent;  // a few tools at once
   std::size_t next = 0;

@@ -16,6 +16,7 @@
 #include "deformation_enrichment/enrichment/example_set_options.hpp"
 #include "deformation_enrichment/enrichment/example_set_reduction.hpp"
 #include "deformation_enrichment/enrichment/material_similarity.hpp"
+#include "deformation_enrichment/enrichment/surface_enricher.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/examples/example_set_io.hpp"
 
@@ -25,6 +26,25 @@ using nlohmann::json;
 namespace {
 
 json vec(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+// The display surface without the triangles whose three vertices are held by the fixed region: the open
+// surface a simulator publishing only the free (visible) part would send. Vertices are kept, so coarse
+// and fine states still match it vertex for vertex.
+mesh::TriangleMesh openSurface(const scenes::SceneModels& models) {
+  std::vector<char> held(static_cast<std::size_t>(models.fine.mesh.numVertices()), 0);
+  for (int v : models.fine.fixedVertices) held[static_cast<std::size_t>(v)] = 1;
+  const mesh::TriangleMesh& closed = models.surface;
+  mesh::TriangleMesh open{closed.vertices, Eigen::Matrix3Xi(3, 0)};
+  for (Eigen::Index t = 0; t < closed.numTriangles(); ++t) {
+    bool allHeld = true;
+    for (int k = 0; k < 3; ++k) allHeld = allHeld && held[static_cast<std::size_t>(models.surfaceToFine[closed.triangles(k, t)])];
+    if (allHeld) continue;
+    open.triangles.conservativeResize(3, open.triangles.cols() + 1);
+    open.triangles.col(open.triangles.cols() - 1) = closed.triangles.col(t);
+  }
+  if (open.numTriangles() == closed.numTriangles()) throw InvalidInputError("--open: no triangle of the display surface is held");
+  return open;
+}
 
 json summary(const acquisition::HeldOutScore& s) {
   return {{"ratio", s.ratio()}, {"enriched_rms", s.enrichedRms}, {"coarse_rms", s.coarseRms},
@@ -58,6 +78,13 @@ int main(int argc, char** argv) {
   bool noGain = false;
   app.add_flag("--no-cv-gain", noGain, "do not scale w~ by the cross-validated gain of the fit");
   app.add_flag("--curves", curves, "also score example count, stamp resolution and Hermite order variants");
+  bool open = false;
+  std::string densitySource = "auto";
+  double shellThickness = 0.0;
+  app.add_flag("--open", open, "enrich the display surface without its held triangles (an open surface), as the node would");
+  app.add_option("--site-density", densitySource, "rho's density: auto, surface, volume (the scene's coarse volume) or shell")
+      ->capture_default_str();
+  app.add_option("--shell-thickness", shellThickness, "shell depth in metres (0: three window scales)")->capture_default_str();
   app.add_option("--repetitions", repetitions, "enrichments per contact for the median compute time")->check(CLI::PositiveNumber);
   app.add_flag("--json", asJson, "print JSON (always on; kept for the documented command line)");
   CLI11_PARSE(app, argc, argv);
@@ -88,7 +115,15 @@ int main(int argc, char** argv) {
     // Detail of another tissue fades with its material's difference (the descriptors see geometry only).
     const double similarity = set.metadata.provenance ? enrichment::materialSimilarity(set.metadata.provenance->scene, scene) : 1.0;
     options.stampGain *= similarity;
-    enrichment::ContactEnricher enricher(acq.fineSurface(), options);
+    descriptors::SiteDensityOptions density;
+    density.source = descriptors::parseSiteDensitySource(densitySource);
+    density.shellThickness = shellThickness;
+    density.maxOutside = scene.maxOutside;
+    std::string densityDescription;
+    const mesh::TriangleMesh surface = open ? openSurface(acq.models()) : acq.fineSurface();
+    const mesh::TetMesh* volume = &acq.models().coarse.mesh;
+    enrichment::ContactEnricher enricher = enrichment::surfaceEnricher(surface, volume, options, density, &densityDescription);
+    std::cerr << "site density: " << densityDescription << "\n";
     enrichment::ExampleBlenderOptions blenderOptions;
     blenderOptions.fitWidths = !noFit && !(sigmaRho > 0.0 && sigmaU > 0.0);
     blenderOptions.lambda = lambda;
@@ -127,7 +162,7 @@ int main(int argc, char** argv) {
     json out = {{"scene", scene.name}, {"source_scene", source}, {"transfer", transfer}, {"material_similarity", similarity},
                 {"examples", set.examples.size()}, {"example_set", setPath}, {"contacts", contacts.size()},
                 {"held_out", contactsPath.empty() ? json{{"random", heldOut}, {"seed", seed}} : json{{"file", contactsPath}}},
-                {"stamp_radius", options.stampRadius},
+                {"stamp_radius", options.stampRadius}, {"open_surface", open}, {"site_density", densityDescription},
                 {"magnitude_aware", !correlationOnly}, {"rim_band", rimBand}, {"gain", gain}, {"lambda", lambda},
                 {"surface_vertices", acq.fineSurface().vertices.cols()},
                 {"sigma_rho", widths.sigmaRho}, {"sigma_u", widths.sigmaU},
@@ -166,7 +201,7 @@ int main(int argc, char** argv) {
           enrichment::ContactEnricherOptions orderOptions = options;
           orderOptions.descriptors.siteOrder = n;
           orderOptions.descriptors.deformationOrder = m;
-          enrichment::ContactEnricher variant(acq.fineSurface(), orderOptions);
+          enrichment::ContactEnricher variant = enrichment::surfaceEnricher(surface, volume, orderOptions, density);
           const examples::ExampleSet reduced = enrichment::withHermiteOrders(set, n, m);
           variant.setExamples(reduced, blenderFor(reduced));
           json entry = summary(acquisition::scoreHeldOut(variant, cases, repetitions));

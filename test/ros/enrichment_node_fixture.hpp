@@ -59,6 +59,7 @@ protected:
     enrichedSub_ = nh_.subscribe("enriched_mesh_state", 10, &EnrichmentNodeTest::onEnriched, this);
     statusSub_ = nh_.subscribe("enrichment/status", 10, &EnrichmentNodeTest::onStatus, this);
     logSub_ = nh_.subscribe("/rosout", 100, &EnrichmentNodeTest::onLog, this);
+    diagnosticsSub_ = nh_.subscribe("/diagnostics", 10, &EnrichmentNodeTest::onDiagnostics, this);
     // Messages published before a connection exists are lost: wait for every connection.
     ASSERT_TRUE(waitFor([&] {
       return statePub_.getNumSubscribers() > 0 && contactsPub_.getNumSubscribers() > 0 &&
@@ -84,7 +85,7 @@ protected:
   }
 
   /// The status of the state stamped `stamp`, waiting up to `seconds` for it; null if none came.
-  de::EnrichmentStatusConstPtr statusOf(const ros::Time& stamp, double seconds) {
+  de::EnrichmentStatusConstPtr statusFor(const ros::Time& stamp, double seconds = 3.0) {
     de::EnrichmentStatusConstPtr found;
     waitFor([&] {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -108,7 +109,7 @@ protected:
     // The new rest mesh is active once a state of its size goes through and its enricher is built.
     ASSERT_TRUE(waitFor([&] {
       const sensor_msgs::PointCloud2 state = goodState();
-      const de::EnrichmentStatusConstPtr status = roundTrip(state, 0.3) ? statusOf(state.header.stamp, 0.3) : nullptr;
+      const de::EnrichmentStatusConstPtr status = roundTrip(state, 0.3) ? statusFor(state.header.stamp, 0.3) : nullptr;
       return status && !status->rest_building;
     }, 20.0)) << "rest mesh never became active";
   }
@@ -148,13 +149,37 @@ protected:
     EXPECT_TRUE(roundTrip(goodState())) << "the node did not recover after: " << fragment;
   }
 
+  /// The value of `key` in a /diagnostics status of the node received after this call, "" if none came.
+  std::string diagnosticValue(const std::string& key, double seconds = 5.0) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      diagnostics_.clear();
+    }
+    std::string value;
+    waitFor([&] {
+      std::lock_guard<std::mutex> lock(mutex_);
+      for (const auto& d : diagnostics_)
+        for (const auto& kv : d.values)
+          if (kv.key == key) value = kv.value;
+      return !value.empty();
+    }, seconds);
+    return value;
+  }
+
+  void onDiagnostics(const diagnostic_msgs::DiagnosticArrayConstPtr& d) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& status : d->status)
+      if (status.name.find("enrichment") != std::string::npos) diagnostics_.push_back(status);
+  }
+
   void onEnriched(const sensor_msgs::PointCloud2ConstPtr& m) { std::lock_guard<std::mutex> l(mutex_); enriched_.push_back(m); }
   void onStatus(const de::EnrichmentStatusConstPtr& m) { std::lock_guard<std::mutex> l(mutex_); statuses_.push_back(m); }
   void onLog(const rosgraph_msgs::Log& m) { std::lock_guard<std::mutex> l(mutex_); logs_.push_back(m); }
 
   ros::NodeHandle nh_;
   ros::Publisher restPub_, statePub_, contactsPub_, posePub_;
-  ros::Subscriber enrichedSub_, statusSub_, logSub_;
+  ros::Subscriber enrichedSub_, statusSub_, logSub_, diagnosticsSub_;
+  std::vector<diagnostic_msgs::DiagnosticStatus> diagnostics_;
   std::mutex mutex_;
   std::vector<sensor_msgs::PointCloud2ConstPtr> enriched_;
   std::vector<de::EnrichmentStatusConstPtr> statuses_;

@@ -21,11 +21,6 @@ using enrichment_test::waitFor;
 
 class EnrichmentKnobsTest : public enrichment_test::EnrichmentNodeTest {
 protected:
-  void SetUp() override {
-    EnrichmentNodeTest::SetUp();
-    diagnosticsSub_ = nh_.subscribe("/diagnostics", 10, &EnrichmentKnobsTest::onDiagnostics, this);
-  }
-
   void TearDown() override {  // one node serves every test: leave the knobs at their defaults
     reconfigure({{"stamp_gain", 1.0}, {"sigma_rho", 0.0}, {"sigma_u", 0.0}}, {{"hermite_order", 0}});
   }
@@ -57,33 +52,7 @@ protected:
     return -1;
   }
 
-  de::EnrichmentStatusConstPtr statusFor(const ros::Time& stamp, double seconds = 3.0) {
-    de::EnrichmentStatusConstPtr found;
-    waitFor([&] {
-      std::lock_guard<std::mutex> lock(mutex_);
-      for (const auto& s : statuses_)
-        if (s->header.stamp == stamp) found = s;
-      return found != nullptr;
-    }, seconds);
-    return found;
-  }
 
-  /// The value of `key` in a /diagnostics status of the node received after this call, "" if none came.
-  std::string diagnosticValue(const std::string& key, double seconds = 5.0) {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      diagnostics_.clear();
-    }
-    std::string value;
-    waitFor([&] {
-      std::lock_guard<std::mutex> lock(mutex_);
-      for (const auto& d : diagnostics_)
-        for (const auto& kv : d.values)
-          if (kv.key == key) value = kv.value;
-      return !value.empty();
-    }, seconds);
-    return value;
-  }
 
   /// Publishes a contact at (x, 0, z) and returns its stamp once the node has it (states stamped up to
   /// 0.5 s later see it).
@@ -137,14 +106,7 @@ protected:
     return best;
   }
 
-  void onDiagnostics(const diagnostic_msgs::DiagnosticArrayConstPtr& d) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    for (const auto& status : d->status)
-      if (status.name.find("enrichment") != std::string::npos) diagnostics_.push_back(status);
-  }
 
-  ros::Subscriber diagnosticsSub_;
-  std::vector<diagnostic_msgs::DiagnosticStatus> diagnostics_;
   ros::Time lastStamp_;
 };
 

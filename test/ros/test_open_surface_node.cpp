@@ -5,8 +5,6 @@
 // comes out, none non-finite. The default slab example set (ctest slab_example_set) is loaded.
 #include "enrichment_node_fixture.hpp"
 
-#include <diagnostic_msgs/DiagnosticArray.h>
-
 #include "deformation_enrichment/scene_file/scene_description.hpp"
 #include "deformation_enrichment/scenes/scene_models.hpp"
 
@@ -51,14 +49,7 @@ class OpenSurfaceTest : public EnrichmentNodeTest {
 protected:
   void SetUp() override {
     EnrichmentNodeTest::SetUp();
-    diagnosticsSub_ = nh_.subscribe("/diagnostics", 10, &OpenSurfaceTest::onDiagnostics, this);
     slab_ = de::scenes::sceneGeometry(de::scene_file::readSceneFile(de::scene_file::findSceneFile("slab"))).surface;
-  }
-  void onDiagnostics(const diagnostic_msgs::DiagnosticArrayConstPtr& array) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    for (const auto& status : array->status)
-      for (const auto& value : status.values)
-        if (value.key == "site density") siteDensity_ = value.value;
   }
   /// A dent of 2 mm under `p` (a smooth bump that fades over 8 mm), as the coarse state.
   Eigen::Matrix3Xf pressed(const Eigen::Vector3d& p) const {
@@ -86,8 +77,6 @@ protected:
   }
 
   de::mesh::TriangleMesh slab_;
-  ros::Subscriber diagnosticsSub_;
-  std::string siteDensity_;
 };
 
 TEST_F(OpenSurfaceTest, AnOpenCutSurfaceInTheSceneVolumeIsEnrichedAtTheContactAndNotAcrossTheCut) {
@@ -101,10 +90,8 @@ TEST_F(OpenSurfaceTest, AnOpenCutSurfaceInTheSceneVolumeIsEnrichedAtTheContactAn
   ASSERT_GT(cutX - p.x(), 0.003);
   ASSERT_LT(cutX - p.x(), 0.005);
   setRest(openTopCutAt(slab_, 0.02, cutX));
-  EXPECT_TRUE(waitFor([&] {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return siteDensity_.find("volume") != std::string::npos;
-  }, 5.0)) << "the scene's volume gives the open surface its site density: " << siteDensity_;
+  EXPECT_TRUE(waitFor([&] { return diagnosticValue("site density", 1.0).find("volume") != std::string::npos; }, 10.0))
+      << "the scene's volume gives the open surface its site density: " << diagnosticValue("site density");
 
   const Eigen::Matrix3Xf state = pressed(p);
   std_msgs::Header h;
@@ -168,7 +155,7 @@ TEST_F(OpenSurfaceTest, CutsEveryFewStatesLoseNothingAndPublishNothingNonFinite)
     if (!message) continue;
     ++out;
     ASSERT_TRUE(de::ros_layer::positionsFromCloud(*message).allFinite()) << "non-finite output";
-    const auto status = statusOf(stamp, 1.0);
+    const auto status = statusFor(stamp, 1.0);
     if (status && status->vertices_touched > 0) ++enrichedStates;
   }
   EXPECT_GT(enrichedStates, 0) << "some states were enriched between the cuts";

@@ -39,6 +39,10 @@ struct SiteDensity {
 /// or with surface vertices farther than maxOutside outside it, or a sampling with no sample.
 SiteDensity siteDensity(const mesh::TriangleMesh& surface, const mesh::TetMesh* volume, const SiteDensityOptions& options);
 
+/// `o` for a window of scale h: the grid step `spacing`, or h / 4 when that is 0; a shell thickness <= 0
+/// becomes 3 h, where the Hermite window has fallen to exp(-4.5), about 1 %.
+SiteDensityOptions forWindow(SiteDensityOptions o, double windowScale, double spacing);
+
 /// "auto", "surface", "volume", "shell"; parseSiteDensitySource throws InvalidInputError for other text.
 std::string toString(SiteDensitySource source);
 SiteDensitySource parseSiteDensitySource(const std::string& text);

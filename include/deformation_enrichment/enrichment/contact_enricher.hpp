@@ -90,9 +90,6 @@ struct EnrichmentResult {
   EnrichmentTimings timings;
 };
 
-/// The grid step of the site density's samples: options.sampleSpacing, or h / 4 when that is 0.
-double siteSampleSpacing(const ContactEnricherOptions& options);
-
 class ContactEnricher {
 public:
   /// `restSurface`: a valid triangle mesh (zero-area triangles allowed). `siteDensity`: the samples of the

@@ -236,10 +236,9 @@ bool EnrichmentNode::onSegmentSites(SegmentSites::Request& request, SegmentSites
   }
   try {
     // The rest surface's own site density (its interior, the scene's volume or a shell), as the enricher's.
-    descriptors::SiteDensityOptions density = parameters_.session.density;
     const double scale = parameters_.segmentationScale;
-    density.spacing = parameters_.session.defaults.sampleSpacing > 0.0 ? parameters_.session.defaults.sampleSpacing : scale / 4.0;
-    if (!(density.shellThickness > 0.0)) density.shellThickness = 3.0 * scale;
+    const descriptors::SiteDensityOptions density =
+        descriptors::forWindow(parameters_.session.density, scale, parameters_.session.defaults.sampleSpacing);
     const mesh::TetMesh* volume = rest->geometry.volume ? &*rest->geometry.volume : nullptr;
     const std::vector<int> labels =
         descriptors::segmentSurface(rest->geometry.surface, volume, static_cast<int>(request.regions), scale, density);

@@ -2,6 +2,8 @@
 // an open surface, the volume around it, and the choice Auto makes, with the reasons it gives.
 #include <gtest/gtest.h>
 
+#include "../top_face.hpp"
+
 #include <set>
 #include <tuple>
 
@@ -22,18 +24,6 @@ mesh::TetMesh slabVolume() {
   return mesh::gridTetMesh(Eigen::Vector3d(-0.05, -0.05, 0.0), Eigen::Vector3d(0.05, 0.05, 0.02), Eigen::Vector3i(10, 10, 2));
 }
 
-mesh::TriangleMesh topOnly(const mesh::TriangleMesh& closed) {
-  mesh::TriangleMesh open = closed;
-  std::vector<Eigen::Index> kept;
-  for (Eigen::Index t = 0; t < closed.numTriangles(); ++t) {
-    bool top = true;
-    for (int k = 0; k < 3; ++k) top = top && closed.vertices(2, closed.triangles(k, t)) > 0.0199;
-    if (top) kept.push_back(t);
-  }
-  open.triangles.resize(3, static_cast<Eigen::Index>(kept.size()));
-  for (std::size_t i = 0; i < kept.size(); ++i) open.triangles.col(static_cast<Eigen::Index>(i)) = closed.triangles.col(kept[i]);
-  return open;
-}
 
 std::set<std::tuple<long, long, long>> keys(const descriptors::PointSampling& s) {
   std::set<std::tuple<long, long, long>> out;  // positions to 1 um: the same grid gives the same keys
@@ -46,7 +36,7 @@ std::set<std::tuple<long, long, long>> keys(const descriptors::PointSampling& s)
 
 TEST(ShellSampling, AShellAsDeepAsTheSlabIsItsInteriorAndStopsAtTheRim) {
   const mesh::TriangleMesh closed = mesh::extractSurface(slabVolume()).surface;
-  const mesh::TriangleMesh open = topOnly(closed);
+  const mesh::TriangleMesh open = de_test::topFace(closed, 0.02);
   const double spacing = 0.0021;
   const auto interior = keys(descriptors::sampleClosedSurfaceInterior(closed, spacing));
   // 2 cm deep: everything under the top face down to the bottom, nothing beside the rim.
@@ -69,7 +59,7 @@ TEST(ShellSampling, AShellAsDeepAsTheSlabIsItsInteriorAndStopsAtTheRim) {
 TEST(SiteDensity, AutoTakesTheInteriorOfAClosedSurfaceTheVolumeOfAnOpenOneElseAShell) {
   const mesh::TetMesh volume = slabVolume();
   const mesh::TriangleMesh closed = mesh::extractSurface(volume).surface;
-  const mesh::TriangleMesh open = topOnly(closed);
+  const mesh::TriangleMesh open = de_test::topFace(closed, 0.02);
   descriptors::SiteDensityOptions o;
   o.spacing = 0.0021;
   o.shellThickness = 0.006;

@@ -3,7 +3,10 @@
 #include <cstdio>
 #include <set>
 
+#include "../top_face.hpp"
 #include "descriptor_test_support.hpp"
+#include "deformation_enrichment/mesh/grid_tet_mesh.hpp"
+#include "deformation_enrichment/mesh/tet_surface.hpp"
 #include "deformation_enrichment/descriptors/site_segmentation.hpp"
 #include "deformation_enrichment/error.hpp"
 
@@ -150,4 +153,25 @@ TEST(SiteSegmentation, KMeansRecoversSeparatedGroupsAndRejectsBadInput) {
   EXPECT_THROW(kMeansSites(descriptors, options), InvalidInputError);
   descriptors[5] = hermite::MomentList(0, 2);
   EXPECT_THROW(kMeansSites(descriptors, options), InvalidInputError);
+}
+
+TEST(SiteSegmentation, AnOpenSurfaceIsSegmentedFromItsVolumeOrAShell) {
+  // The top face of a 10 x 10 x 2 cm slab, open: its rim (edges and corners of the slab) differs from its
+  // middle whether the material comes from the slab's volume or from a shell under the face.
+  const mesh::TetMesh volume = mesh::gridTetMesh(Eigen::Vector3d(-0.05, -0.05, 0.0), Eigen::Vector3d(0.05, 0.05, 0.02),
+                                                 Eigen::Vector3i(12, 12, 2));
+  const mesh::TriangleMesh open = de_test::topFace(mesh::extractSurface(volume).surface, 0.02);
+  descriptors::SiteDensityOptions density = descriptors::forWindow({}, 0.006, 0.0);
+  for (const mesh::TetMesh* around : {&volume, static_cast<const mesh::TetMesh*>(nullptr)}) {
+    const std::vector<int> labels = descriptors::segmentSurface(open, around, 2, 0.006, density);
+    ASSERT_EQ(labels.size(), static_cast<std::size_t>(open.numVertices()));
+    Eigen::Index centre = 0, corner = 0;
+    (open.vertices.colwise() - Eigen::Vector3d(0.0, 0.0, 0.02)).colwise().squaredNorm().minCoeff(&centre);
+    (open.vertices.colwise() - Eigen::Vector3d(0.05, 0.05, 0.02)).colwise().squaredNorm().minCoeff(&corner);
+    EXPECT_NE(labels[static_cast<std::size_t>(centre)], labels[static_cast<std::size_t>(corner)]) << (around ? "volume" : "shell");
+  }
+  EXPECT_THROW(descriptors::segmentSurface(open, &volume, 0, 0.006, density), InvalidInputError);
+  EXPECT_THROW(descriptors::segmentSurface(open, &volume, static_cast<int>(open.numVertices()) + 1, 0.006, density),
+               InvalidInputError);
+  EXPECT_THROW(descriptors::segmentSurface(open, &volume, 2, -1.0, density), InvalidInputError);
 }

@@ -41,6 +41,24 @@ Contact restContact(const Eigen::Vector3d& p) {
 
 }  // namespace
 
+TEST(ContactEnricher, AMovedEnricherEnrichesAsBefore) {
+  // Its KD-trees refer to its rest vertices: a move must leave them valid (the session moves enrichers).
+  ContactEnricher original(slabSurface(), options());
+  const Eigen::Vector3d p(0.001, -0.002, 0.02);
+  const Eigen::Matrix3Xd current = dented(original.restSurface().vertices, p, 1.0);
+  const Contact contact{p, true, std::nullopt, 0, std::nullopt, 0.0};
+  original.setExamples(oneExampleSet(original.describe(current, contact), syntheticStamp(32, 0.02), 0.02), fixedWidths());
+  enrichment::EnrichmentResult before, after;
+  original.enrich(current, {contact}, before);
+  ContactEnricher moved(std::move(original));
+  ContactEnricher assigned(slabSurface(), options());
+  assigned = std::move(moved);
+  assigned.enrich(current, {contact}, after);
+  ASSERT_FALSE(before.enrichment.vertices.empty());
+  EXPECT_EQ(after.enrichment.vertices, before.enrichment.vertices);
+  EXPECT_TRUE(after.enrichment.displacements == before.enrichment.displacements);
+}
+
 TEST(ContactEnricher, OneExampleReproducesItsStampAtItsOwnContact) {
   ContactEnricher enricher(slabSurface(), options());
   const Eigen::Matrix3Xd& rest = enricher.restSurface().vertices;

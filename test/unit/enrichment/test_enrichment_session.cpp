@@ -2,6 +2,8 @@
 // unchanged-input memo, open surfaces in a volume, rest surfaces built off the frame thread, and bad input.
 #include <gtest/gtest.h>
 
+#include "../top_face.hpp"
+
 #include "enricher_test_support.hpp"
 
 #include <limits>
@@ -80,18 +82,6 @@ Eigen::Matrix3Xf dentedState(const mesh::TriangleMesh& rest) {
   return de_test::dented(rest.vertices, kContact, 1.0).cast<float>();
 }
 
-mesh::TriangleMesh withoutBottomAndSides(const mesh::TriangleMesh& closed) {
-  mesh::TriangleMesh open = closed;
-  std::vector<Eigen::Index> kept;
-  for (Eigen::Index t = 0; t < closed.numTriangles(); ++t) {
-    bool top = true;
-    for (int k = 0; k < 3; ++k) top = top && closed.vertices(2, closed.triangles(k, t)) > 0.0199;
-    if (top) kept.push_back(t);
-  }
-  open.triangles.resize(3, static_cast<Eigen::Index>(kept.size()));
-  for (std::size_t i = 0; i < kept.size(); ++i) open.triangles.col(static_cast<Eigen::Index>(i)) = closed.triangles.col(kept[i]);
-  return open;
-}
 
 mesh::TetMesh slabVolume() {
   return mesh::gridTetMesh(Eigen::Vector3d(-0.05, -0.05, 0.0), Eigen::Vector3d(0.05, 0.05, 0.02), Eigen::Vector3i(16, 16, 3));
@@ -159,7 +149,7 @@ TEST(EnrichmentSession, AnOpenSurfaceInAVolumeIsEnrichedLikeTheClosedOne) {
   const mesh::TetMesh block = mesh::gridTetMesh(Eigen::Vector3d(-0.05, -0.05, -0.04), Eigen::Vector3d(0.05, 0.05, 0.02),
                                                 Eigen::Vector3i(16, 16, 6));
   const mesh::TriangleMesh closed = mesh::extractSurface(block).surface;
-  const mesh::TriangleMesh open = withoutBottomAndSides(closed);
+  const mesh::TriangleMesh open = de_test::topFace(closed, 0.02);
   auto closedSession = readySession(closed);
   auto openSession = readySession(open, block);
   EXPECT_NE(openSession->diagnostics().siteDensity.find("volume"), std::string::npos) << openSession->diagnostics().siteDensity;
@@ -261,7 +251,7 @@ TEST(EnrichmentSession, BadRestSurfacesAreRefusedOrEnrichedWithTheirFlaws) {
   volumeOnly.waitForRebuild();
   mesh::TetMesh aside = slabVolume();
   aside.vertices.row(0).array() += 0.05;
-  volumeOnly.setRestGeometry({withoutBottomAndSides(rest), aside, "volume aside"});
+  volumeOnly.setRestGeometry({de_test::topFace(rest, 0.02), aside, "volume aside"});
   volumeOnly.waitForRebuild();
   EXPECT_TRUE(log.contains("rest surface from volume aside refused")) << "logged";
   EXPECT_NE(volumeOnly.diagnostics().lastRestError.find("farther than"), std::string::npos) << volumeOnly.diagnostics().lastRestError;
