@@ -29,17 +29,38 @@ std::array<std::uint32_t, 3> xyzOffsets(const PointCloudLayout& layout, std::siz
   return offsets;
 }
 
-Eigen::Matrix3Xf decodePositions(const PointCloudLayout& layout, const std::uint8_t* data, std::size_t size) {
+namespace {
+
+// x, y, z as three consecutive floats at the start of a point: one copy per point (or per row of points).
+bool packedXyz(const std::array<std::uint32_t, 3>& offsets) { return offsets[0] == 0 && offsets[1] == 4 && offsets[2] == 8; }
+
+}  // namespace
+
+void decodePositions(const PointCloudLayout& layout, const std::uint8_t* data, std::size_t size, Eigen::Matrix3Xf& positions) {
   const auto offsets = xyzOffsets(layout, size);
-  Eigen::Matrix3Xf positions(3, static_cast<Eigen::Index>(layout.width) * layout.height);
+  positions.resize(3, static_cast<Eigen::Index>(layout.width) * layout.height);  // keeps its storage for the same size
   // Without points the rows are empty: a lying height of 4e9 must not cost 4e9 loop turns.
-  if (positions.cols() == 0) return positions;
+  if (positions.cols() == 0) return;
+  const bool packed = packedXyz(offsets);
   Eigen::Index index = 0;
   for (std::uint32_t row = 0; row < layout.height; ++row) {
     const std::uint8_t* point = data + static_cast<std::size_t>(row) * layout.rowStep;
-    for (std::uint32_t column = 0; column < layout.width; ++column, point += layout.pointStep, ++index)
-      for (int axis = 0; axis < 3; ++axis) std::memcpy(&positions(axis, index), point + offsets[axis], sizeof(float));
+    if (packed && layout.pointStep == 3 * sizeof(float)) {  // a row is one block of floats
+      std::memcpy(&positions(0, index), point, 3 * sizeof(float) * layout.width);
+      index += layout.width;
+      continue;
+    }
+    for (std::uint32_t column = 0; column < layout.width; ++column, point += layout.pointStep, ++index) {
+      if (packed) std::memcpy(&positions(0, index), point, 3 * sizeof(float));
+      else
+        for (int axis = 0; axis < 3; ++axis) std::memcpy(&positions(axis, index), point + offsets[axis], sizeof(float));
+    }
   }
+}
+
+Eigen::Matrix3Xf decodePositions(const PointCloudLayout& layout, const std::uint8_t* data, std::size_t size) {
+  Eigen::Matrix3Xf positions;
+  decodePositions(layout, data, size, positions);
   return positions;
 }
 
@@ -51,11 +72,20 @@ void encodePositions(const Eigen::Matrix3Xf& positions, const PointCloudLayout& 
     throw InvalidInputError("cannot write " + std::to_string(positions.cols()) + " positions into a cloud of " +
                             std::to_string(points) + " points");
   if (points == 0) return;  // as in decodePositions
+  const bool packed = packedXyz(offsets);
   Eigen::Index index = 0;
   for (std::uint32_t row = 0; row < layout.height; ++row) {
     std::uint8_t* point = data + static_cast<std::size_t>(row) * layout.rowStep;
-    for (std::uint32_t column = 0; column < layout.width; ++column, point += layout.pointStep, ++index)
-      for (int axis = 0; axis < 3; ++axis) std::memcpy(point + offsets[axis], &positions(axis, index), sizeof(float));
+    if (packed && layout.pointStep == 3 * sizeof(float)) {
+      std::memcpy(point, &positions(0, index), 3 * sizeof(float) * layout.width);
+      index += layout.width;
+      continue;
+    }
+    for (std::uint32_t column = 0; column < layout.width; ++column, point += layout.pointStep, ++index) {
+      if (packed) std::memcpy(point, &positions(0, index), 3 * sizeof(float));
+      else
+        for (int axis = 0; axis < 3; ++axis) std::memcpy(point + offsets[axis], &positions(axis, index), sizeof(float));
+    }
   }
 }
 

@@ -38,6 +38,9 @@ std::array<std::uint32_t, 3> xyzOffsets(const PointCloudLayout& layout, std::siz
 
 /// The x, y, z of every point, row by row (values as stored, non-finite ones included).
 Eigen::Matrix3Xf decodePositions(const PointCloudLayout& layout, const std::uint8_t* data, std::size_t size);
+/// The same into `positions`, whose storage is reused when it already has the size (a stream of states:
+/// no allocation per state); x, y, z packed at the start of 12-byte points are copied a row at a time.
+void decodePositions(const PointCloudLayout& layout, const std::uint8_t* data, std::size_t size, Eigen::Matrix3Xf& positions);
 
 /// Overwrites x, y, z of every point, leaving other fields untouched. Throws InvalidInputError as
 /// xyzOffsets does, or when positions.cols() is not the number of points.

@@ -12,6 +12,8 @@ namespace deformation_enrichment::ros_layer {
 /// Reads the x, y, z float32 fields (mesh::decodePositions). Throws InvalidInputError naming a missing or
 /// mistyped field or a data buffer that does not match width, height and point_step.
 Eigen::Matrix3Xf positionsFromCloud(const sensor_msgs::PointCloud2& cloud);
+/// The same into `positions`, reusing its storage when the size is the same.
+void positionsFromCloud(const sensor_msgs::PointCloud2& cloud, Eigen::Matrix3Xf& positions);
 
 /// Overwrites the x, y, z fields of `cloud` (which must already have the layout positionsFromCloud
 /// accepts and positions.cols() points), leaving every other field and the header untouched.

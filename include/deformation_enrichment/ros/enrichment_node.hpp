@@ -63,9 +63,8 @@ private:
                                             const enrichment::RestSurface& rest);
   /// Publishes the enriched state of `message` (the input itself when nothing changed: nodelets share it),
   /// its status, and keeps what the markers show.
-  void publish(const sensor_msgs::PointCloud2ConstPtr& message, Eigen::Matrix3Xf positions,
-               const enrichment::FrameResult& result, const std::vector<TrackedContact>& touching,
-               std::chrono::steady_clock::time_point start);
+  void publish(const sensor_msgs::PointCloud2ConstPtr& message, const enrichment::FrameResult& result,
+               const std::vector<TrackedContact>& touching, std::chrono::steady_clock::time_point start);
   void onMarkerTimer(const ros::TimerEvent&);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
   bool onSegmentSites(SegmentSites::Request& request, SegmentSites::Response& response);
@@ -107,9 +106,9 @@ private:
   // The latest pose of each tool id, with the source it came from.
   std::map<std::string, std::pair<geometry_msgs::PoseStamped, const ToolPoseSource*>> toolPoses_;
   std::string meshFrame_;
-  // What the markers show: the last good state, its enrichment and its contacts.
-  std_msgs::Header lastHeader_;
-  Eigen::Matrix3Xf lastPositions_, lastEnrichedPositions_;
+  Eigen::Matrix3Xf state_;  // the current state's positions (storage reused from state to state)
+  // What the markers show: the last good state, what was published for it, and its contacts.
+  sensor_msgs::PointCloud2ConstPtr lastInput_, lastOutput_;
   std::vector<TrackedContact> lastTouching_;
   // Statistics for diagnostics.
   uint64_t statesIn_ = 0, statesOut_ = 0;

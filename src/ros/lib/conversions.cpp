@@ -27,6 +27,10 @@ Eigen::Matrix3Xf positionsFromCloud(const sensor_msgs::PointCloud2& cloud) {
   return mesh::decodePositions(layoutOf(cloud), cloud.data.data(), cloud.data.size());
 }
 
+void positionsFromCloud(const sensor_msgs::PointCloud2& cloud, Eigen::Matrix3Xf& positions) {
+  mesh::decodePositions(layoutOf(cloud), cloud.data.data(), cloud.data.size(), positions);
+}
+
 void writePositions(const Eigen::Matrix3Xf& positions, sensor_msgs::PointCloud2& cloud) {
   mesh::encodePositions(positions, layoutOf(cloud), cloud.data.data(), cloud.data.size());
 }

@@ -102,14 +102,13 @@ void EnrichmentNode::onMeshState(const sensor_msgs::PointCloud2ConstPtr& message
   const auto start = std::chrono::steady_clock::now();
   std::lock_guard<std::mutex> lock(mutex_);
   ++statesIn_;
-  Eigen::Matrix3Xf positions;
-  std::shared_ptr<const enrichment::RestSurface> rest;
+  Eigen::Matrix3Xf& positions = state_;  // reused: no allocation per state
   try {
-    positions = positionsFromCloud(*message);
+    positionsFromCloud(*message, positions);
   } catch (const Error& e) {
     return reject("mesh_state", e.what());
   }
-  rest = session_->restFor(positions.cols());
+  const std::shared_ptr<const enrichment::RestSurface> rest = session_->restFor(positions.cols());
   if (!rest) {
     const auto newest = session_->newestRest();
     return reject("mesh_state", newest ? "mesh state has " + std::to_string(positions.cols()) + " points but the rest mesh has " +
@@ -123,29 +122,26 @@ void EnrichmentNode::onMeshState(const sensor_msgs::PointCloud2ConstPtr& message
   try {
     const enrichment::FrameResult& result = session_->enrich(positions, tools, message->header.stamp.toSec());
     if (!result.error.empty()) reject("contacts", "enrichment skipped for this state: " + result.error);
-    publish(message, std::move(positions), result, touching, start);
+    publish(message, result, touching, start);
   } catch (const Error& e) {
     reject("mesh_state", e.what());
   }
 }
 
-void EnrichmentNode::publish(const sensor_msgs::PointCloud2ConstPtr& message, Eigen::Matrix3Xf positions,
-                             const enrichment::FrameResult& result, const std::vector<TrackedContact>& touching,
-                             std::chrono::steady_clock::time_point start) {
+void EnrichmentNode::publish(const sensor_msgs::PointCloud2ConstPtr& message, const enrichment::FrameResult& result,
+                             const std::vector<TrackedContact>& touching, std::chrono::steady_clock::time_point start) {
   sensor_msgs::PointCloud2ConstPtr enriched = message;  // nothing changed: the input itself, without a copy
   if (result.changed) {
     auto copy = boost::make_shared<sensor_msgs::PointCloud2>(*message);
     writePositions(session_->enrichedPositions(), *copy);
     enriched = copy;
-    lastEnrichedPositions_ = session_->enrichedPositions();
-  } else {
-    lastEnrichedPositions_ = positions;
   }
   enrichedPub_.publish(enriched);
   outputRate_->tick();
   ++statesOut_;
-  lastHeader_ = message->header;
-  lastPositions_ = std::move(positions);
+  // What the markers show, decoded only when they are drawn (shared pointers: no copy here).
+  lastInput_ = message;
+  lastOutput_ = enriched;
   lastTouching_ = touching;
 
   EnrichmentStatus status;
@@ -209,10 +205,12 @@ std::vector<TrackedContact> EnrichmentNode::touchingTools(const ros::Time& stamp
 void EnrichmentNode::onMarkerTimer(const ros::TimerEvent&) {
   if (markersPub_.getNumSubscribers() == 0) return;  // markers cost megabytes: only for an audience
   std::lock_guard<std::mutex> lock(mutex_);
-  const auto rest = session_->restFor(lastPositions_.cols());
-  if (!rest || lastPositions_.cols() == 0) return;
-  markersPub_.publish(enrichmentMarkers(lastHeader_, rest->geometry.surface, lastPositions_, lastEnrichedPositions_,
-                                        lastTouching_, parameters_.markers));
+  if (!lastInput_) return;
+  const Eigen::Matrix3Xf input = positionsFromCloud(*lastInput_), output = positionsFromCloud(*lastOutput_);
+  const auto rest = session_->restFor(input.cols());
+  if (!rest) return;
+  markersPub_.publish(enrichmentMarkers(lastInput_->header, rest->geometry.surface, input, output, lastTouching_,
+                                        parameters_.markers));
 }
 
 bool EnrichmentNode::onSegmentSites(SegmentSites::Request& request, SegmentSites::Response& response) {

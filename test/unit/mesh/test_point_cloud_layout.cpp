@@ -62,6 +62,27 @@ TEST(PointCloudLayout, EncodeDecodeRoundTripKeepsOtherFieldsAndRowPadding) {
   EXPECT_THROW(mesh::encodePositions(ramp(5), c.layout, c.data.data(), c.data.size()), de::InvalidInputError);
 }
 
+TEST(PointCloudLayout, PackedXyzRoundTripsRowByRowWithPaddingAndPaddedPoints) {
+  // x y z at the start of 12-byte points (copied a row at a time) and of 16-byte points (a point at a time),
+  // both with row padding, decoded into a reused matrix.
+  for (const std::uint32_t step : {12u, 16u}) {
+    Cloud c = makeCloud(3, 2, 5);
+    c.layout.fields = {{"x", 0, mesh::kFloat32Field, 1}, {"y", 4, mesh::kFloat32Field, 1}, {"z", 8, mesh::kFloat32Field, 1}};
+    c.layout.pointStep = step;
+    c.layout.rowStep = step * 3 + 5;
+    c.data.assign(static_cast<std::size_t>(c.layout.rowStep) * 2, 0xAB);
+    const Eigen::Matrix3Xf p = ramp(6);
+    mesh::encodePositions(p, c.layout, c.data.data(), c.data.size());
+    Eigen::Matrix3Xf decoded = Eigen::Matrix3Xf::Zero(3, 6);
+    const float* storage = decoded.data();
+    mesh::decodePositions(c.layout, c.data.data(), c.data.size(), decoded);
+    EXPECT_EQ(decoded, p) << "point step " << step;
+    EXPECT_EQ(decoded.data(), storage) << "the same size reuses the storage";
+    EXPECT_EQ(c.data[c.layout.rowStep - 1], 0xAB) << "padding untouched";
+    if (step == 16) EXPECT_EQ(c.data[12], 0xAB) << "the bytes after z untouched";
+  }
+}
+
 TEST(PointCloudLayout, EmptyCloudDecodesToNoPoints) {
   const Cloud c = makeCloud(0, 0);
   EXPECT_EQ(mesh::decodePositions(c.layout, c.data.data(), c.data.size()).cols(), 0);
