@@ -79,7 +79,9 @@ TEST(PointCloudLayout, PackedXyzRoundTripsRowByRowWithPaddingAndPaddedPoints) {
     EXPECT_EQ(decoded, p) << "point step " << step;
     EXPECT_EQ(decoded.data(), storage) << "the same size reuses the storage";
     EXPECT_EQ(c.data[c.layout.rowStep - 1], 0xAB) << "padding untouched";
-    if (step == 16) EXPECT_EQ(c.data[12], 0xAB) << "the bytes after z untouched";
+    if (step == 16) {
+      EXPECT_EQ(c.data[12], 0xAB) << "the bytes after z untouched";
+    }
   }
 }
 
