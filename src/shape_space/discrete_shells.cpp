@@ -22,14 +22,11 @@ namespace deformation_enrichment::shape_space {
 namespace {
 
 using detail::HessianPattern;
+using detail::kDegenerateAreaRatio;
+using detail::kParallelVertices;
 using detail::LocalEdge;
 using detail::LocalTerm;
 
-constexpr double kDegenerateAreaRatio = 1e-8;
-// Below this many vertices a pass runs serially: the OpenMP team's idle spinning costs more than the work
-// (measured: a 3-step smoothing of a 366-vertex MD2 clip took 4.7 s with 2 threads, 0.6 s serially, on a
-// loaded 2-core machine).
-constexpr Eigen::Index kParallelVertices = 1000;
 
 // The internal need flags of an output request.
 unsigned needOf(const EnergyOutputs& outputs) {
@@ -105,20 +102,7 @@ void addHingeTerm(const std::array<Eigen::Vector3d, 4>& x, const std::array<Eige
     wGradient = w.gradientReference;
     wHessian = w.hessianReference;
   } else {
-    // Closed form (measured: the jets were an eighth of a gradient pass): w_bar = c q0 / (A1 + A2) with
-    // triangles (i, j, k) and (i, j, l), dA/dx_a = n_hat x (x_c - x_b) / 2 for (a, b, c) cyclic.
-    const Eigen::Vector3d e = xBar[1] - xBar[0];
-    const Eigen::Vector3d m1 = e.cross(xBar[2] - xBar[0]), m2 = e.cross(xBar[3] - xBar[0]);
-    const double twiceA1 = m1.norm(), twiceA2 = m2.norm(), areaSum = 0.5 * (twiceA1 + twiceA2);
-    wBar = c * e.squaredNorm() / areaSum;
-    if (needReferenceDerivatives) {
-      const Eigen::Vector3d h1 = m1 / (2.0 * twiceA1), h2 = m2 / (2.0 * twiceA2);  // n_hat / 2
-      const double lengthFactor = 2.0 * c / areaSum, areaFactor = -wBar / areaSum;
-      wGradient.segment<3>(0) = -lengthFactor * e + areaFactor * (h1.cross(xBar[2] - xBar[1]) + h2.cross(xBar[3] - xBar[1]));
-      wGradient.segment<3>(3) = lengthFactor * e + areaFactor * (h1.cross(xBar[0] - xBar[2]) + h2.cross(xBar[0] - xBar[3]));
-      wGradient.segment<3>(6) = areaFactor * h1.cross(e);
-      wGradient.segment<3>(9) = areaFactor * h2.cross(e);
-    }
+    wBar = detail::hingeWeightAndGradient(xBar, c, needReferenceDerivatives ? &wGradient : nullptr);
   }
   // The angle difference is taken modulo 2 pi into [-pi, pi]: a hinge folding through +-pi changes by a
   // little, not by 2 pi (the derivatives are unaffected; the shift is locally constant). One atan2 of the
@@ -308,13 +292,14 @@ void DiscreteShells::checkTriangles(const Eigen::VectorXd& shape, const char* na
     const Eigen::Vector3d x2 = shape.segment<3>(3 * triangles_(2, t));
     const double doubleArea = (x1 - x0).cross(x2 - x0).norm();
     const double scale = (x1 - x0).squaredNorm() + (x2 - x1).squaredNorm() + (x0 - x2).squaredNorm();
-    if (!(doubleArea > 2.0 * kDegenerateAreaRatio * scale)) {
-      throw InvalidInputError(std::string("DiscreteShells: triangle ") + std::to_string(t) + " (vertices " +
-                              std::to_string(triangles_(0, t)) + ", " + std::to_string(triangles_(1, t)) + ", " +
-                              std::to_string(triangles_(2, t)) + ") of the " + name + " shape is degenerate (area " +
-                              std::to_string(0.5 * doubleArea) + ")");
-    }
+    if (!(doubleArea > 2.0 * kDegenerateAreaRatio * scale)) throwDegenerate(t, std::string("the ") + name + " shape", 0.5 * doubleArea);
   }
+}
+
+void DiscreteShells::throwDegenerate(Eigen::Index t, const std::string& shape, double area) const {
+  throw InvalidInputError("DiscreteShells: triangle " + std::to_string(t) + " (vertices " + std::to_string(triangles_(0, t)) +
+                          ", " + std::to_string(triangles_(1, t)) + ", " + std::to_string(triangles_(2, t)) + ") of " +
+                          shape + " is degenerate (area " + std::to_string(area) + ")");
 }
 
 void DiscreteShells::assemble(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed,

@@ -29,7 +29,7 @@ namespace deformation_enrichment::shape_space {
 namespace {
 
 
-constexpr double kDegenerateAreaRatio = 1e-8;  // as DiscreteShells::checkTriangles
+using detail::kDegenerateAreaRatio;
 
 template <int NV, class Index>
 std::array<Eigen::Vector3d, NV> gatherCorners(const Eigen::VectorXd& shape, const Index& vertices) {

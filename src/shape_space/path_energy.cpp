@@ -1,7 +1,6 @@
 #include "deformation_enrichment/shape_space/path_energy.hpp"
 
 #include <cmath>
-#include <exception>
 #include <string>
 
 #include <Eigen/SparseCholesky>
@@ -11,68 +10,17 @@
 #include "sparse_cholesky.hpp"
 
 namespace deformation_enrichment::shape_space {
-namespace {
-
-int wrap(int i, int count) { return ((i % count) + count) % count; }
-
-// The terms of eq. 4: segment s joins x_s and x_s+1 (mod count if closed).
-int segmentCount(int count, bool closed) { return closed ? count : count - 1; }
-
-// Per segment W(a, b) + W(b, a) and, with gradients, the derivatives summed per shape.
-std::vector<double> segmentEnergies(const DeformationEnergy& energy, const std::vector<Eigen::VectorXd>& shapes,
-                                    bool closed, std::vector<Eigen::VectorXd>* gradients) {
-  const int count = int(shapes.size());
-  if (count < 2) throw InvalidInputError("path energy: a path needs at least 2 shapes, got " + std::to_string(count));
-  const int passes = 2 * segmentCount(count, closed);  // pass 2s: W(x_s, x_s+1); pass 2s+1: W(x_s+1, x_s)
-  std::vector<double> values(size_t(passes), 0.0);
-  std::vector<Eigen::VectorXd> gradReference(gradients ? size_t(passes) : 0), gradDeformed(gradients ? size_t(passes) : 0);
-  const auto shapesOf = [&](int p) {
-    const int a = p / 2, b = wrap(a + 1, count);
-    return p % 2 == 0 ? std::pair<int, int>{a, b} : std::pair<int, int>{b, a};
-  };
-  std::exception_ptr error;
-#pragma omp parallel for schedule(dynamic) if (energy.numVertices() >= 1000)
-  for (int p = 0; p < passes; ++p) {
-    try {
-      const auto [reference, deformed] = shapesOf(p);
-      EnergyOutputs out;
-      out.value = &values[size_t(p)];
-      if (gradients) {
-        out.gradientReference = &gradReference[size_t(p)];
-        out.gradientDeformed = &gradDeformed[size_t(p)];
-      }
-      energy.evaluate(shapes[size_t(reference)], shapes[size_t(deformed)], out);
-    } catch (...) {
-#pragma omp critical
-      error = std::current_exception();
-    }
-  }
-  if (error) std::rethrow_exception(error);
-  if (gradients) {
-    gradients->assign(shapes.size(), Eigen::VectorXd::Zero(shapes.front().size()));
-    for (int p = 0; p < passes; ++p) {
-      const auto [reference, deformed] = shapesOf(p);
-      (*gradients)[size_t(reference)] += gradReference[size_t(p)];
-      (*gradients)[size_t(deformed)] += gradDeformed[size_t(p)];
-    }
-  }
-  std::vector<double> segments(size_t(passes / 2));
-  for (size_t s = 0; s < segments.size(); ++s) segments[s] = values[2 * s] + values[2 * s + 1];
-  return segments;
-}
-
-}  // namespace
 
 double pathEnergy(const DeformationEnergy& energy, const std::vector<Eigen::VectorXd>& shapes, bool closed,
                   std::vector<Eigen::VectorXd>* gradients) {
   double sum = 0.0;
-  for (double segment : segmentEnergies(energy, shapes, closed, gradients)) sum += segment;  // eq. 4
+  for (double segment : energy.pathSegments(shapes, closed, gradients)) sum += segment;  // eq. 4
   return sum;
 }
 
 double pathLength(const DeformationEnergy& energy, const std::vector<Eigen::VectorXd>& shapes, bool closed) {
   double length = 0.0;
-  for (double segment : segmentEnergies(energy, shapes, closed, nullptr)) length += std::sqrt(std::max(0.5 * segment, 0.0));
+  for (double segment : energy.pathSegments(shapes, closed, nullptr)) length += std::sqrt(std::max(0.5 * segment, 0.0));
   return length;
 }
 

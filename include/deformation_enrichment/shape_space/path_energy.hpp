@@ -4,10 +4,11 @@
 // left-hand side of eq. 3), the path length and the flow tangents of eq. 9: one implementation for the
 // flow, the geodesic solvers and the tools.
 //
-// Shape pairs are evaluated in parallel (OpenMP) on meshes of >= 1000 vertices (each energy pass then runs
-// serially; on small meshes the team's idle spinning costs more than the work on a loaded machine), so the
-// energy must be safe to call from several threads (DiscreteShells is). Errors of the energy (wrong sizes,
-// non-finite or degenerate shapes: InvalidInputError) are passed on.
+// The segment terms come from DeformationEnergy::pathSegments: shapes and segments are evaluated in parallel
+// (OpenMP) on meshes of >= 1000 vertices (each energy pass then runs serially; on small meshes the team's idle
+// spinning costs more than the work on a loaded machine), so the energy must be safe to call from several
+// threads (DiscreteShells is). Errors of the energy (wrong sizes, non-finite or degenerate shapes:
+// InvalidInputError) are passed on.
 #include <vector>
 
 #include <Eigen/Core>
