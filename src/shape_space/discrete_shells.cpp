@@ -355,16 +355,7 @@ void DiscreteShells::assemble(const Eigen::VectorXd& reference, const Eigen::Vec
       const auto xBar = gather<3>(reference, v);
       LocalTerm<3> term(need);
       if (hyperelastic && !(need & (detail::kHessianMixed | detail::kHessianReference))) {
-        // [Heeren12 eq. 8]: value and gradients in closed form; a deformed Hessian by jets in the
-        // three deformed squared lengths only (with a reference gradient the jets would carry all six).
-        detail::addHyperelasticFace(x, xBar, p.mu, p.lambda, need, term);
-        if (need & detail::kHessianDeformed) {
-          LocalTerm<3> hessianOnly(detail::kHessianDeformed);
-          detail::addSquaredLengthTerm<3, 3, 3>([&p](const auto& q) { return detail::hyperelasticMembrane(q, p.mu, p.lambda); },
-                                                x, xBar, kTriangleEdges, kTriangleEdges, detail::kHessianDeformed, 1.0,
-                                                hessianOnly);
-          term.hessianDeformed += hessianOnly.hessianDeformed;
-        }
+        detail::addHyperelasticFace(x, xBar, p.mu, p.lambda, need, term);  // [Heeren12 eq. 8] in closed form
       } else if (hyperelastic) {  // [Heeren12 eq. 8]
         detail::addSquaredLengthTerm<3, 3, 3>([&p](const auto& q) { return detail::hyperelasticMembrane(q, p.mu, p.lambda); },
                                               x, xBar, kTriangleEdges, kTriangleEdges, need, 1.0, term);

@@ -200,21 +200,22 @@ public:
     static constexpr std::array<detail::LocalEdge, 3> kTriangleEdges{{{1, 2}, {2, 0}, {0, 1}}};  // edge m opposite corner m
     static constexpr std::array<detail::LocalEdge, 1> kEdge{{{0, 1}}};
     static constexpr std::array<detail::LocalEdge, 0> kNone{};
-    for (Eigen::Index t = 0; t < shells_.numTriangles(); ++t) {  // jets in the 3 deformed squared lengths
+    for (Eigen::Index t = 0; t < shells_.numTriangles(); ++t) {
       const std::array<int, 3> v{shells_.triangles()(0, t), shells_.triangles()(1, t), shells_.triangles()(2, t)};
       const auto x = gatherCorners<3>(y, v);
       if (degenerate(x)) throw InvalidInputError("DiscreteShells: triangle " + std::to_string(t) + " of the deformed shape is degenerate");
       const Face& f = faces_[size_t(t)];
       detail::LocalTerm<3> term(detail::kHessianDeformed);
-      const bool hyperelastic = hyperelastic_;
-      detail::addSquaredLengthTerm<3, 3, 0>(
-          [&f, hyperelastic](const auto& q) {
-            const auto area = detail::triangleArea(q[0], q[1], q[2]);
-            if (hyperelastic) return f.linear[0] * q[0] + f.linear[1] * q[1] + f.linear[2] * q[2] + f.quadratic * area * area -
-                                     f.logarithmic * log(area / f.scale);
-            return f.quadratic * (area - f.linear[0]) * (area - f.linear[0]);
-          },
-          x, x, kTriangleEdges, kNone, detail::kHessianDeformed, 1.0, term);
+      if (hyperelastic_) {  // sum_m C_m q_m + D A^2 - S / 2 log(A^2) + const, in closed form
+        detail::addFaceHessian(x, f.linear, f.quadratic, -0.5 * f.logarithmic, term.hessianDeformed);
+      } else {  // k_A a (A - A_star)^2: jets in the 3 deformed squared lengths
+        detail::addSquaredLengthTerm<3, 3, 0>(
+            [&f](const auto& q) {
+              const auto area = detail::triangleArea(q[0], q[1], q[2]);
+              return f.quadratic * (area - f.linear[0]) * (area - f.linear[0]);
+            },
+            x, x, kTriangleEdges, kNone, detail::kHessianDeformed, 1.0, term);
+      }
       detail::scatterHessian<3>(term.hessianDeformed, v, shells_.hessianPattern(), values);
     }
     for (size_t e = 0; e < edges_.size(); ++e) {
