@@ -74,15 +74,22 @@ void addHingeTerm(const std::array<Eigen::Vector3d, 4>& x, const std::array<Eige
                   double weight, unsigned need, LocalTerm<4>& out) {
   const bool needDeformedAngle = (need & (detail::kGradientDeformed | detail::kHessianDeformed | detail::kHessianMixed)) != 0u;
   const bool needReferenceDerivatives = (need & (detail::kGradientReference | detail::kHessianMixed | detail::kHessianReference)) != 0u;
-  // Angle derivatives only when needed (a HingeAngle carries a 12 x 12 Hessian).
-  // Without the Hessian only the gradient is filled (the HingeAngle Hessian stays unread).
+  // The angle difference is taken modulo 2 pi into [-pi, pi]: a hinge folding through +-pi changes by a
+  // little, not by 2 pi (the derivatives are unaffected; the shift is locally constant). One atan2 of the
+  // rotation between the two hinges gives it directly (measured: atan2 was a third of a value pass).
+  const double d = dihedralAngleDifference(dihedralAngleVector(x[0], x[1], x[2], x[3]),
+                                           dihedralAngleVector(xBar[0], xBar[1], xBar[2], xBar[3]));
+  // Angle derivatives only when needed (a HingeAngle carries a 12 x 12 Hessian). Without the Hessian only the
+  // gradient is filled (the HingeAngle Hessian stays unread). The angle Hessians enter multiplied by d, so they
+  // are skipped where d = 0, e.g. at the rest shape (the rest Hessians of eq. 9 and the geodesic's model).
+  const bool angleHessians = d != 0.0;
   HingeAngle theta, thetaBar;
-  if (need & detail::kHessianDeformed) {
+  if ((need & detail::kHessianDeformed) && angleHessians) {
     theta = dihedralAngleDerivatives(x[0], x[1], x[2], x[3], true);
   } else if (needDeformedAngle) {
     theta.gradient = dihedralAngleGradient(x[0], x[1], x[2], x[3]);
   }
-  if (need & detail::kHessianReference) {
+  if ((need & detail::kHessianReference) && angleHessians) {
     thetaBar = dihedralAngleDerivatives(xBar[0], xBar[1], xBar[2], xBar[3], true);
   } else if (needReferenceDerivatives) {
     thetaBar.gradient = dihedralAngleGradient(xBar[0], xBar[1], xBar[2], xBar[3]);
@@ -104,18 +111,14 @@ void addHingeTerm(const std::array<Eigen::Vector3d, 4>& x, const std::array<Eige
   } else {
     wBar = detail::hingeWeightAndGradient(xBar, c, needReferenceDerivatives ? &wGradient : nullptr);
   }
-  // The angle difference is taken modulo 2 pi into [-pi, pi]: a hinge folding through +-pi changes by a
-  // little, not by 2 pi (the derivatives are unaffected; the shift is locally constant). One atan2 of the
-  // rotation between the two hinges gives it directly (measured: atan2 was a third of a value pass).
-  const double d = dihedralAngleDifference(dihedralAngleVector(x[0], x[1], x[2], x[3]),
-                                           dihedralAngleVector(xBar[0], xBar[1], xBar[2], xBar[3]));
   out.value += weight * d * d * wBar;
   if (need & detail::kGradientDeformed) out.gradientDeformed += weight * 2.0 * d * wBar * theta.gradient;
   if (need & detail::kGradientReference) {
     out.gradientReference += weight * (-2.0 * d * wBar * thetaBar.gradient + d * d * wGradient);
   }
   if (need & detail::kHessianDeformed) {
-    out.hessianDeformed += weight * 2.0 * wBar * (theta.gradient * theta.gradient.transpose() + d * theta.hessian);
+    out.hessianDeformed += weight * 2.0 * wBar * theta.gradient * theta.gradient.transpose();
+    if (angleHessians) out.hessianDeformed += weight * 2.0 * wBar * d * theta.hessian;
   }
   if (need & detail::kHessianMixed) {
     out.hessianMixed += weight * 2.0 * (d * wGradient - wBar * thetaBar.gradient) * theta.gradient.transpose();
@@ -123,8 +126,8 @@ void addHingeTerm(const std::array<Eigen::Vector3d, 4>& x, const std::array<Eige
   if (need & detail::kHessianReference) {
     const Eigen::Matrix<double, 12, 12> cross = thetaBar.gradient * wGradient.transpose();
     out.hessianReference += weight * (2.0 * wBar * thetaBar.gradient * thetaBar.gradient.transpose() -
-                                      2.0 * d * wBar * thetaBar.hessian - 2.0 * d * (cross + cross.transpose()) +
-                                      d * d * wHessian);
+                                      2.0 * d * (cross + cross.transpose()) + d * d * wHessian);
+    if (angleHessians) out.hessianReference -= weight * 2.0 * d * wBar * thetaBar.hessian;
   }
 }
 

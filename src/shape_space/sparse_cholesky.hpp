@@ -7,6 +7,9 @@
 // ordering) runs once while the sparsity pattern stays: every Hessian of one mesh shares the energy's
 // pattern, so only the numeric factorisation is repeated.
 #include <Eigen/SparseCore>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 #ifdef DE_HAVE_CHOLMOD
 #include <Eigen/CholmodSupport>
 #else
@@ -39,7 +42,18 @@ public:
       outer_ = outer;
       inner_ = inner;
     }
+#ifdef _OPENMP
+    // CHOLMOD 3's supernodal factorisation asks OpenMP for a fixed 4 threads (CHOLMOD_OMP_NUM_THREADS) in its
+    // zeroing and assembly loops; on 2 shared cores their spin-waits cost more than the loops (measured: 14 %
+    // of a finger geodesic with OMP_NUM_THREADS=1). With dynamic adjustment (a per-thread setting) OpenMP
+    // bounds such teams by this thread's team size and the load.
+    const int dynamic = omp_get_dynamic();
+    omp_set_dynamic(1);
     solver_.factorize(shifted);
+    omp_set_dynamic(dynamic);
+#else
+    solver_.factorize(shifted);
+#endif
     return solver_.info() == Eigen::Success;
   }
 

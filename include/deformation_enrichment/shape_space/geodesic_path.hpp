@@ -4,10 +4,10 @@
 // [Brandt16 §5]; [Heeren12]). Its critical points are those of the symmetric-average flow (eq. 1,
 // Lemma 2), reached without the flow's many small steps:
 //  - reduced: inner shape k = o_k + B q_k (o_k its initial value, B shared), BFGS over all q_k started from
-//    a quadratic model of the dense reduced Hessian B^T d2E B (a few hundred unknowns; measured on the
-//    finger: L-BFGS with a rest-Hessian preconditioner needed 200-400 evaluations, exact Newton about 10
-//    Hessians, each costing as much as 14 gradients); energy and derivatives optionally from the ghost mesh
-//    ([Brandt16 §6]) with the same reduced coordinates;
+//    a quadratic model of the dense reduced Hessian B^T d2E B built from the shapes' rest Hessians (a few
+//    hundred unknowns; measured on the finger: L-BFGS with a rest-Hessian preconditioner needed 200-400
+//    evaluations, exact Newton about 10 Hessians, each costing as much as 14 gradients); energy and
+//    derivatives optionally from the ghost mesh ([Brandt16 §6]) with the same reduced coordinates;
 //  - full: damped Newton in R^{3V (K-1)} with a sparse Cholesky factorisation, for checking.
 // Both run the shared damped Newton routine (damped_newton.hpp) on eq. 4 (path_energy.hpp).
 #include <vector>
