@@ -37,17 +37,18 @@ std::vector<Eigen::VectorXd> flowTangents(const DeformationEnergy& energy, const
     tangents[size_t(k)] = Eigen::VectorXd::Zero(shapes[size_t(k)].size());
     if (!closed && (k == 0 || k == count - 1)) continue;
     // eq. 9's metric d1d1 W(x, x) + d2d2 W(x, x) = 2 d2d2 W(x, x) (W(x, x) = 0 and its gradients vanish
-    // there for every x, so d1d1 = -d1d2 = d2d2): one d2d2 pass. The ridge removes the rigid null space.
-    const Eigen::SparseMatrix<double> h = 2.0 * energy.hessianDeformed(shapes[size_t(k)], shapes[size_t(k)]);
+    // there for every x, so d1d1 = -d1d2 = d2d2): one d2d2 pass, and (2 H + 2 r I) v = -g / 2 is solved as
+    // (H + r I) v = -g / 4. The ridge r removes the rigid null space.
+    const Eigen::SparseMatrix<double> h = energy.hessianDeformed(shapes[size_t(k)], shapes[size_t(k)]);
     const double ridge = 1e-8 * std::max(Eigen::VectorXd(h.diagonal()).cwiseAbs().mean(), 1e-300);
-    const Eigen::VectorXd rhs = -0.5 * gradients[size_t(k)];
+    const Eigen::VectorXd rhs = -0.25 * gradients[size_t(k)];
     if (cholesky.factorize(h, ridge)) {
       tangents[size_t(k)] = cholesky.solve(rhs);
       continue;
     }
-    Eigen::SparseMatrix<double> shifted = h;  // semi-definite up to round-off: LDLT
-    for (Eigen::Index i = 0; i < shifted.rows(); ++i) shifted.coeffRef(i, i) += ridge;
-    const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(shifted);
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;  // semi-definite up to round-off: LDLT
+    ldlt.setShift(ridge);
+    ldlt.compute(h);
     if (ldlt.info() != Eigen::Success) throw NumericalError("flow tangents: rest Hessian factorisation failed");
     tangents[size_t(k)] = ldlt.solve(rhs);
   }
