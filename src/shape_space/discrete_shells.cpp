@@ -293,9 +293,10 @@ void DiscreteShells::checkTriangles(const Eigen::VectorXd& shape, const char* na
     const Eigen::Vector3d x0 = shape.segment<3>(3 * triangles_(0, t));
     const Eigen::Vector3d x1 = shape.segment<3>(3 * triangles_(1, t));
     const Eigen::Vector3d x2 = shape.segment<3>(3 * triangles_(2, t));
-    const double doubleArea = (x1 - x0).cross(x2 - x0).norm();
-    const double scale = (x1 - x0).squaredNorm() + (x2 - x1).squaredNorm() + (x0 - x2).squaredNorm();
-    if (!(doubleArea > 2.0 * kDegenerateAreaRatio * scale)) throwDegenerate(t, std::string("the ") + name + " shape", 0.5 * doubleArea);
+    const double doubleAreaSquared = (x1 - x0).cross(x2 - x0).squaredNorm();  // squared: no square root per triangle
+    const double bound = 2.0 * kDegenerateAreaRatio * ((x1 - x0).squaredNorm() + (x2 - x1).squaredNorm() + (x0 - x2).squaredNorm());
+    if (!(doubleAreaSquared > bound * bound))
+      throwDegenerate(t, std::string("the ") + name + " shape", 0.5 * std::sqrt(doubleAreaSquared));
   }
 }
 

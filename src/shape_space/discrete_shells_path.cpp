@@ -209,9 +209,7 @@ double DiscreteShells::PathTerms::hingeTerms(const Shape& a, const Shape& b, Eig
   double value = 0.0;
   for (size_t h = 0; h < a.hinges.size(); ++h) {  // k (w_a + w_b) d^2
     const Hinge &ha = a.hinges[h], &hb = b.hinges[h];
-    double d = hb.theta - ha.theta;  // both in (-pi, pi]
-    if (d > M_PI) d -= 2.0 * M_PI;
-    else if (d < -M_PI) d += 2.0 * M_PI;
+    const double d = detail::wrappedAngle(hb.theta - ha.theta);
     const double weight = k * (ha.weight + hb.weight);
     value += weight * d * d;
     if (!gradients_) continue;
