@@ -117,28 +117,35 @@ GeodesicResult pathEnergyGeodesic(const DeformationEnergy& energy, const Eigen::
       // flow directions): at the first level those at the initial path, later the previous level's basis
       // (its tangents were taken at a solved path; new ones would cost a factorisation per shape). Each
       // round adds the tangents at the current path.
+      // Eq. 4's gradients and the rest Hessians at the current path are shared by eq. 9's tangents and (on the
+      // fine mesh) the solver's start model (measured: a sixth of a finger geodesic).
       AffineSubspace subspace = pcaSubspace(shapes, reduction.subspaceDimension);
       subspace.origin.setZero();  // only the basis is used: shape k = (its current value) + B q_k
+      std::vector<Eigen::SparseMatrix<double>> rest;  // at the current path (empty: not computed)
+      std::vector<Eigen::VectorXd> gradients;
       if (carried.cols() == 0) {
-        enrich(subspace, flowTangents(energy, shapes, false));
+        pathEnergy(energy, shapes, false, &gradients);
+        rest = restHessians(energy, shapes, !space.ghost());
+        enrich(subspace, flowTangents(gradients, rest, false));
       } else {
         std::vector<Eigen::VectorXd> previous;
         for (Eigen::Index c = 0; c < carried.cols(); ++c) previous.push_back(carried.col(c));
         enrich(subspace, previous);
       }
       for (int round = 0;; ++round) {
-        report = minimisePathEnergyReduced(space, shapes, subspace.basis, solveOptions);
+        report = minimisePathEnergyReduced(space, shapes, subspace.basis, solveOptions,
+                                           rest.empty() || space.ghost() ? nullptr : &rest);
         result.iterations += report.iterations;
         result.evaluations += report.evaluations;
-        std::vector<Eigen::VectorXd> gradients;
-        result.pathEnergyHistory.push_back(pathEnergy(energy, shapes, false, space.ghost() ? nullptr : &gradients));
+        result.pathEnergyHistory.push_back(pathEnergy(energy, shapes, false, &gradients));
         if (round == options.enrichmentRounds || !report.converged) break;
         if (!space.ghost()) {  // exact energies: stop once the unprojected gradient meets the rule too
           double full = 0.0;
           for (size_t k = 1; k + 1 < gradients.size(); ++k) full += gradients[k].squaredNorm();
           if (full <= options.absoluteFactor * double(a.size()) * double(shapes.size() - 2)) break;
         }
-        if (enrich(subspace, flowTangents(energy, shapes, false)) == 0) break;
+        rest = restHessians(energy, shapes, !space.ghost());  // the ghost's start model needs its own
+        if (enrich(subspace, flowTangents(gradients, rest, false)) == 0) break;
       }
       carried = subspace.basis;
     }

@@ -70,15 +70,12 @@ double pathEnergyOrInfinity(const DeformationEnergy& energy, const std::vector<E
 // there d1d1 W = d2d2 W = -d1d2 W), so one Hessian per shape gives all blocks, and at rest its angle terms
 // vanish ([Brandt16 §6] warm-starts BFGS from rest Hessians too). Measured on the finger: 40 % of the
 // per-term model's cost (d2d2 W(x_r, x_s) per term) for 31 instead of 26 iterations, the same length.
-Eigen::MatrixXd reducedHessianModel(const DeformationEnergy& energy, const std::vector<Eigen::VectorXd>& x,
-                                    const Eigen::MatrixXd& basis) {
-  const int count = int(x.size());
+Eigen::MatrixXd reducedHessianModel(const std::vector<Eigen::SparseMatrix<double>>& restHessians, const Eigen::MatrixXd& basis,
+                                    Eigen::Index numVertices) {
+  const int count = int(restHessians.size());
   const Eigen::Index d = basis.cols();
-  std::vector<Eigen::MatrixXd> rest(x.size());
-  parallelFor(count, energy.numVertices(), [&](int k) {
-    const Eigen::SparseMatrix<double> h = energy.hessianDeformed(x[size_t(k)], x[size_t(k)]);
-    rest[size_t(k)] = basis.transpose() * (h * basis);
-  });
+  std::vector<Eigen::MatrixXd> rest(restHessians.size());
+  parallelFor(count, numVertices, [&](int k) { rest[size_t(k)] = basis.transpose() * (restHessians[size_t(k)] * basis); });
   Eigen::MatrixXd model = Eigen::MatrixXd::Zero(d * (count - 2), d * (count - 2));
   const auto inner = [&](int k) { return k > 0 && k + 1 < count; };
   for (int r = 0; r + 1 < count; ++r) {
@@ -143,13 +140,17 @@ PathSolveReport toPathReport(const NewtonReport& newton, double threshold) {
 }  // namespace
 
 PathSolveReport minimisePathEnergyReduced(const EvaluationSpace& space, std::vector<Eigen::VectorXd>& shapes,
-                                          const Eigen::MatrixXd& basis, const PathSolveOptions& options) {
+                                          const Eigen::MatrixXd& basis, const PathSolveOptions& options,
+                                          const std::vector<Eigen::SparseMatrix<double>>* given) {
   checkPath(space.fineEnergy(), shapes, "reduced path energy");
   if (basis.cols() == 0 || basis.rows() != shapes.front().size())
     throw InvalidInputError("reduced path energy: basis is empty or has the wrong row count");
   if (!basis.allFinite()) throw InvalidInputError("reduced path energy: basis is not finite");
   const DeformationEnergy& evaluated = space.energy();
   const int count = int(shapes.size());
+  if (given && int(given->size()) != count)
+    throw InvalidInputError("reduced path energy: " + std::to_string(given->size()) + " rest Hessians for " +
+                            std::to_string(count) + " shapes");
   const Eigen::Index d = basis.cols(), unknowns = d * (count - 2);
   // The evaluation space's rows of origins and basis (same reduced coordinates).
   std::vector<Eigen::VectorXd> origins(shapes.size());
@@ -173,15 +174,18 @@ PathSolveReport minimisePathEnergyReduced(const EvaluationSpace& space, std::vec
     }
     return f;
   };
-  objective.hessian = [&](const Eigen::VectorXd& q) { return reducedHessianModel(evaluated, evalShapes(q), evalBasis); };
+  objective.hessian = [&](const Eigen::VectorXd& q) {
+    return reducedHessianModel(restHessians(evaluated, evalShapes(q)), evalBasis, evaluated.numVertices());
+  };
   Eigen::VectorXd q = Eigen::VectorXd::Zero(unknowns), g0;
   if (!std::isfinite(objective.evaluate(q, &g0))) throw NumericalError("reduced path energy: eq. 4 is not finite at the start");
+  const Eigen::MatrixXd start = given ? reducedHessianModel(*given, evalBasis, evaluated.numVertices()) : objective.hessian(q);
   const double threshold = std::max(options.absoluteFactor * double(unknowns), options.relativeFactor * g0.squaredNorm());
   NewtonOptions newton;
   newton.maxIterations = options.maxIterations;
   newton.gradientSquaredTolerance = threshold;
   newton.quasiNewton = true;
-  PathSolveReport report = toPathReport(dampedNewton(objective, q, newton), threshold);
+  PathSolveReport report = toPathReport(dampedNewton(objective, q, newton, &start), threshold);
   ++report.evaluations;
   for (int k = 1; k + 1 < count; ++k) shapes[size_t(k)] += basis * q.segment(d * (k - 1), d);
   return report;

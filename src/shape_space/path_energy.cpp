@@ -1,6 +1,7 @@
 #include "deformation_enrichment/shape_space/path_energy.hpp"
 
 #include <cmath>
+#include <exception>
 #include <string>
 
 #include <Eigen/SparseCholesky>
@@ -24,22 +25,51 @@ double pathLength(const DeformationEnergy& energy, const std::vector<Eigen::Vect
   return length;
 }
 
+std::vector<Eigen::SparseMatrix<double>> restHessians(const DeformationEnergy& energy,
+                                                      const std::vector<Eigen::VectorXd>& shapes, bool ends) {
+  const int count = int(shapes.size());
+  std::vector<Eigen::SparseMatrix<double>> hessians(shapes.size());
+  std::exception_ptr error;
+#pragma omp parallel for schedule(dynamic) if (energy.numVertices() >= 1000)
+  for (int k = 0; k < count; ++k) {
+    if (!ends && (k == 0 || k == count - 1)) continue;
+    try {
+      hessians[size_t(k)] = energy.hessianDeformed(shapes[size_t(k)], shapes[size_t(k)]);
+    } catch (...) {
+#pragma omp critical
+      error = std::current_exception();
+    }
+  }
+  if (error) std::rethrow_exception(error);
+  return hessians;
+}
+
 std::vector<Eigen::VectorXd> flowTangents(const DeformationEnergy& energy, const std::vector<Eigen::VectorXd>& shapes,
                                           bool closed) {
   std::vector<Eigen::VectorXd> gradients;
   pathEnergy(energy, shapes, closed, &gradients);
-  const int count = int(shapes.size());
-  std::vector<Eigen::VectorXd> tangents(shapes.size());
+  return flowTangents(gradients, restHessians(energy, shapes, closed), closed);
+}
+
+std::vector<Eigen::VectorXd> flowTangents(const std::vector<Eigen::VectorXd>& gradients,
+                                          const std::vector<Eigen::SparseMatrix<double>>& restHessians, bool closed) {
+  const int count = int(gradients.size());
+  if (restHessians.size() != gradients.size())
+    throw InvalidInputError("flow tangents: " + std::to_string(restHessians.size()) + " rest Hessians for " +
+                            std::to_string(count) + " shapes");
+  std::vector<Eigen::VectorXd> tangents(gradients.size());
   detail::SparseCholesky cholesky;  // one symbolic analysis for all shapes (one pattern)
   // Shape by shape: the supernodal factorisation runs a threaded BLAS, which oversubscribes the cores
   // inside an OpenMP loop over shapes (measured 2.4x slower on 2 cores).
   for (int k = 0; k < count; ++k) {
-    tangents[size_t(k)] = Eigen::VectorXd::Zero(shapes[size_t(k)].size());
+    tangents[size_t(k)] = Eigen::VectorXd::Zero(gradients[size_t(k)].size());
     if (!closed && (k == 0 || k == count - 1)) continue;
     // eq. 9's metric d1d1 W(x, x) + d2d2 W(x, x) = 2 d2d2 W(x, x) (W(x, x) = 0 and its gradients vanish
-    // there for every x, so d1d1 = -d1d2 = d2d2): one d2d2 pass, and (2 H + 2 r I) v = -g / 2 is solved as
+    // there for every x, so d1d1 = -d1d2 = d2d2), and (2 H + 2 r I) v = -g / 2 is solved as
     // (H + r I) v = -g / 4. The ridge r removes the rigid null space.
-    const Eigen::SparseMatrix<double> h = energy.hessianDeformed(shapes[size_t(k)], shapes[size_t(k)]);
+    const Eigen::SparseMatrix<double>& h = restHessians[size_t(k)];
+    if (h.rows() != gradients[size_t(k)].size() || h.cols() != h.rows())
+      throw InvalidInputError("flow tangents: rest Hessian " + std::to_string(k) + " has the wrong size");
     const double ridge = 1e-8 * std::max(Eigen::VectorXd(h.diagonal()).cwiseAbs().mean(), 1e-300);
     const Eigen::VectorXd rhs = -0.25 * gradients[size_t(k)];
     if (cholesky.factorize(h, ridge)) {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
 #include "deformation_enrichment/shape_space/damped_newton.hpp"
 #include "deformation_enrichment/shape_space/deformation_energy.hpp"
@@ -39,10 +40,12 @@ struct PathSolveReport {
 
 /// Reduced minimisation in place: shapes (fine, ends fixed) become o_k + basis q_k with q minimising eq. 4
 /// of the space's energy on its evaluated shapes (the ghost mesh's, if it has one). basis: 3V x d (fine).
+/// restHessians: restHessians(space.energy(), shapes) if the caller has them (the start model's), else null.
 /// Throws InvalidInputError for mismatched sizes, fewer than 3 shapes or an empty basis and
 /// NumericalError if eq. 4 is not finite at the start; an unmet stopping rule is reported (converged).
 PathSolveReport minimisePathEnergyReduced(const EvaluationSpace& space, std::vector<Eigen::VectorXd>& shapes,
-                                          const Eigen::MatrixXd& basis, const PathSolveOptions& options = {});
+                                          const Eigen::MatrixXd& basis, const PathSolveOptions& options = {},
+                                          const std::vector<Eigen::SparseMatrix<double>>* restHessians = nullptr);
 
 /// Full-space damped Newton (Levenberg-Marquardt, Armijo) on eq. 4 in place. Same errors.
 PathSolveReport minimisePathEnergyFull(const DeformationEnergy& energy, std::vector<Eigen::VectorXd>& shapes,

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
 #include "deformation_enrichment/shape_space/deformation_energy.hpp"
 
@@ -25,6 +26,12 @@ double pathEnergy(const DeformationEnergy& energy, const std::vector<Eigen::Vect
 /// Riemannian distance to second order, [Brandt16 §5]).
 double pathLength(const DeformationEnergy& energy, const std::vector<Eigen::VectorXd>& shapes, bool closed = false);
 
+/// The rest Hessians d2d2 W(x_k, x_k) of the shapes (both triangles stored; in parallel on meshes of >= 1000
+/// vertices): half eq. 9's metric, and the reduced geodesic solver's start model, so a caller with both at one
+/// path computes them once. Without `ends`, the first and last are left empty (an open path's fixed ends).
+std::vector<Eigen::SparseMatrix<double>> restHessians(const DeformationEnergy& energy,
+                                                      const std::vector<Eigen::VectorXd>& shapes, bool ends = true);
+
 /// Flow tangents of eq. 9 at every shape: v_k = -1/2 H_k^-1 d(eq. 4)/dx_k with H_k = d1d1 W(x_k, x_k) +
 /// d2d2 W(x_k, x_k) = 2 d2d2 W(x_k, x_k) plus a small ridge (rigid null space); zero vectors at the fixed
 /// ends of an open path. Used to enrich the subspaces of short sequences and of geodesics ([Brandt16 §6]).
@@ -32,5 +39,9 @@ double pathLength(const DeformationEnergy& energy, const std::vector<Eigen::Vect
 /// 0.26 % off the full one after a round of enrichment, the per-shape metric 0.005 %.
 std::vector<Eigen::VectorXd> flowTangents(const DeformationEnergy& energy, const std::vector<Eigen::VectorXd>& shapes,
                                           bool closed);
+
+/// The same from eq. 4's gradients (pathEnergy) and the rest Hessians (restHessians) at the path.
+std::vector<Eigen::VectorXd> flowTangents(const std::vector<Eigen::VectorXd>& gradients,
+                                          const std::vector<Eigen::SparseMatrix<double>>& restHessians, bool closed);
 
 }  // namespace deformation_enrichment::shape_space
