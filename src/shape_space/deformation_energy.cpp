@@ -47,7 +47,7 @@ std::unique_ptr<DeformationEnergy> DeformationEnergy::onTriangles(const Eigen::M
 }
 
 std::vector<double> DeformationEnergy::pathSegments(const std::vector<Eigen::VectorXd>& shapes, bool closed,
-                                                    std::vector<Eigen::VectorXd>* gradients) const {
+                                                    std::vector<Eigen::VectorXd>* gradients, bool endGradients) const {
   const int count = int(shapes.size());
   if (count < 2) throw InvalidInputError("path energy: a path needs at least 2 shapes, got " + std::to_string(count));
   const int segments = closed ? count : count - 1;
@@ -58,6 +58,7 @@ std::vector<double> DeformationEnergy::pathSegments(const std::vector<Eigen::Vec
     const int a = p / 2, b = (a + 1) % count;
     return p % 2 == 0 ? std::pair<int, int>{a, b} : std::pair<int, int>{b, a};
   };
+  const auto wanted = [&](int k) { return gradients && (closed || endGradients || (k > 0 && k + 1 < count)); };
   std::exception_ptr error;
 #pragma omp parallel for schedule(dynamic) if (numVertices() >= 1000)
   for (int p = 0; p < passes; ++p) {
@@ -65,10 +66,8 @@ std::vector<double> DeformationEnergy::pathSegments(const std::vector<Eigen::Vec
       const auto [reference, deformed] = shapesOf(p);
       EnergyOutputs out;
       out.value = &values[size_t(p)];
-      if (gradients) {
-        out.gradientReference = &gradReference[size_t(p)];
-        out.gradientDeformed = &gradDeformed[size_t(p)];
-      }
+      if (wanted(reference)) out.gradientReference = &gradReference[size_t(p)];
+      if (wanted(deformed)) out.gradientDeformed = &gradDeformed[size_t(p)];
       evaluate(shapes[size_t(reference)], shapes[size_t(deformed)], out);
     } catch (...) {
 #pragma omp critical
@@ -80,8 +79,8 @@ std::vector<double> DeformationEnergy::pathSegments(const std::vector<Eigen::Vec
     gradients->assign(shapes.size(), Eigen::VectorXd::Zero(shapes.front().size()));
     for (int p = 0; p < passes; ++p) {
       const auto [reference, deformed] = shapesOf(p);
-      (*gradients)[size_t(reference)] += gradReference[size_t(p)];
-      (*gradients)[size_t(deformed)] += gradDeformed[size_t(p)];
+      if (wanted(reference)) (*gradients)[size_t(reference)] += gradReference[size_t(p)];
+      if (wanted(deformed)) (*gradients)[size_t(deformed)] += gradDeformed[size_t(p)];
     }
   }
   std::vector<double> sums(static_cast<size_t>(segments));

@@ -57,11 +57,13 @@ public:
     std::vector<HingeDerivatives> hingeDerivatives;
   };
 
-  PathTerms(const DiscreteShells& shells, bool gradients) : shells_(shells), gradients_(gradients) {}
+  explicit PathTerms(const DiscreteShells& shells) : shells_(shells) {}
 
-  // The element data of path shape k; throws InvalidInputError for a wrong size, non-finite or degenerate shape.
-  void prepare(const Eigen::VectorXd& x, int k, Shape& out) const;
-  // W(a, b) + W(b, a); with gradients, adds its derivatives in a and b to ga and gb.
+  // The element data of path shape k, with derivatives if asked; throws InvalidInputError for a wrong size,
+  // non-finite or degenerate shape.
+  void prepare(const Eigen::VectorXd& x, int k, bool derivatives, Shape& out) const;
+  // W(a, b) + W(b, a); adds its derivatives in a to ga and in b to gb where those are not null (the shape's
+  // data then has derivatives).
   double segment(const Shape& a, const Shape& b, Eigen::VectorXd* ga, Eigen::VectorXd* gb) const;
 
 private:
@@ -75,7 +77,6 @@ private:
                        Eigen::VectorXd& g) const;
 
   const DiscreteShells& shells_;
-  bool gradients_;
 };
 
 namespace {
@@ -86,11 +87,11 @@ std::array<double, 3> cotangentWeights(const std::array<double, 3>& q) {  // 8 A
 
 }  // namespace
 
-void DiscreteShells::PathTerms::prepare(const Eigen::VectorXd& x, int k, Shape& out) const {
+void DiscreteShells::PathTerms::prepare(const Eigen::VectorXd& x, int k, bool derivatives, Shape& out) const {
   shells_.DeformationEnergy::checkShape(x);  // size and finite entries
   const Eigen::Matrix3Xi& triangles = shells_.triangles_;
   out.faces.resize(size_t(triangles.cols()));
-  out.faceDerivatives.resize(gradients_ ? out.faces.size() : 0);
+  out.faceDerivatives.resize(derivatives ? out.faces.size() : 0);
   for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
     const Eigen::Vector3d x0 = x.segment<3>(3 * triangles(0, t)), x1 = x.segment<3>(3 * triangles(1, t)),
                           x2 = x.segment<3>(3 * triangles(2, t));
@@ -103,7 +104,7 @@ void DiscreteShells::PathTerms::prepare(const Eigen::VectorXd& x, int k, Shape& 
       shells_.throwDegenerate(t, "shape " + std::to_string(k) + " of the path", 0.5 * doubleArea);
     face.area = 0.5 * doubleArea;
     face.logAreaSquared = std::log(face.area * face.area);
-    if (gradients_) out.faceDerivatives[size_t(t)] = {e, n / (2.0 * doubleArea)};
+    if (derivatives) out.faceDerivatives[size_t(t)] = {e, n / (2.0 * doubleArea)};
   }
   out.edges.resize(classic() ? shells_.edges_.size() : 0);
   for (size_t i = 0; i < out.edges.size(); ++i) {
@@ -112,14 +113,14 @@ void DiscreteShells::PathTerms::prepare(const Eigen::VectorXd& x, int k, Shape& 
     out.edges[i] = {length, edge / length};
   }
   out.hinges.resize(bending() ? shells_.hinges_.size() : 0);
-  out.hingeDerivatives.resize(gradients_ ? out.hinges.size() : 0);
+  out.hingeDerivatives.resize(derivatives ? out.hinges.size() : 0);
   const double c = classic() ? 3.0 : 1.0;  // as in discrete_shells.hpp
   for (size_t h = 0; h < out.hinges.size(); ++h) {
     const Eigen::Vector4i& v = shells_.hinges_[h];
     const std::array<Eigen::Vector3d, 4> xh{x.segment<3>(3 * v[0]), x.segment<3>(3 * v[1]), x.segment<3>(3 * v[2]),
                                             x.segment<3>(3 * v[3])};
     Hinge& hinge = out.hinges[h];
-    if (gradients_) {
+    if (derivatives) {
       HingeDerivatives& d = out.hingeDerivatives[h];
       hinge.theta = dihedralAngleAndGradient(xh[0], xh[1], xh[2], xh[3], d.theta);
       hinge.weight = detail::hingeWeightAndGradient(xh, c, &d.weight);
@@ -164,7 +165,7 @@ double DiscreteShells::PathTerms::faceTerms(const Shape& a, const Shape& b, Eige
       value += p.mu / 16.0 * pSum * (inverseA + inverseB) +
                0.25 * p.lambda * (fb.area * fb.area * inverseA + fa.area * fa.area * inverseB) -
                kappa * difference * logDifference - constant * (fa.area + fb.area);
-      if (!gradients_) continue;
+      if (!ga && !gb) continue;
       const double lengthFactor = p.mu / 16.0 * (inverseA + inverseB);
       for (int m = 0; m < 3; ++m) {
         dqA[size_t(m)] = lengthFactor * cb[size_t(m)];
@@ -177,9 +178,8 @@ double DiscreteShells::PathTerms::faceTerms(const Shape& a, const Shape& b, Eige
                0.25 * p.lambda * (2.0 * fb.area * inverseA - fa.area * fa.area * inverseB * inverseB) + kappa * logDifference -
                2.0 * kappa * difference * inverseB - constant;
     }
-    if (!gradients_) continue;
-    addFaceGradient(Eigen::Index(t), a.faceDerivatives[t], dqA, dAreaA, *ga);
-    addFaceGradient(Eigen::Index(t), b.faceDerivatives[t], dqB, dAreaB, *gb);
+    if (ga) addFaceGradient(Eigen::Index(t), a.faceDerivatives[t], dqA, dAreaA, *ga);
+    if (gb) addFaceGradient(Eigen::Index(t), b.faceDerivatives[t], dqB, dAreaB, *gb);
   }
   return value;
 }
@@ -192,14 +192,17 @@ double DiscreteShells::PathTerms::edgeTerms(const Shape& a, const Shape& b, Eige
     const double inverseA = 1.0 / ea.length, inverseB = 1.0 / eb.length, difference = ea.length - eb.length;
     const double sum = inverseA + inverseB;
     value += k * difference * difference * sum;
-    if (!gradients_) continue;
     const Eigen::Vector2i& v = shells_.edges_[i];
-    const Eigen::Vector3d dA = k * (2.0 * difference * sum - difference * difference * inverseA * inverseA) * ea.direction;
-    const Eigen::Vector3d dB = k * (-2.0 * difference * sum - difference * difference * inverseB * inverseB) * eb.direction;
-    ga->segment<3>(3 * v[0]) += dA;
-    ga->segment<3>(3 * v[1]) -= dA;
-    gb->segment<3>(3 * v[0]) += dB;
-    gb->segment<3>(3 * v[1]) -= dB;
+    if (ga) {
+      const Eigen::Vector3d dA = k * (2.0 * difference * sum - difference * difference * inverseA * inverseA) * ea.direction;
+      ga->segment<3>(3 * v[0]) += dA;
+      ga->segment<3>(3 * v[1]) -= dA;
+    }
+    if (gb) {
+      const Eigen::Vector3d dB = k * (-2.0 * difference * sum - difference * difference * inverseB * inverseB) * eb.direction;
+      gb->segment<3>(3 * v[0]) += dB;
+      gb->segment<3>(3 * v[1]) -= dB;
+    }
   }
   return value;
 }
@@ -212,26 +215,28 @@ double DiscreteShells::PathTerms::hingeTerms(const Shape& a, const Shape& b, Eig
     const double d = detail::wrappedAngle(hb.theta - ha.theta);
     const double weight = k * (ha.weight + hb.weight);
     value += weight * d * d;
-    if (!gradients_) continue;
     const Eigen::Vector4i& v = shells_.hinges_[h];
-    const Eigen::Matrix<double, 12, 1> dA = -2.0 * d * weight * a.hingeDerivatives[h].theta + (k * d * d) * a.hingeDerivatives[h].weight;
-    const Eigen::Matrix<double, 12, 1> dB = 2.0 * d * weight * b.hingeDerivatives[h].theta + (k * d * d) * b.hingeDerivatives[h].weight;
-    for (int corner = 0; corner < 4; ++corner) {
-      ga->segment<3>(3 * v[corner]) += dA.segment<3>(3 * corner);
-      gb->segment<3>(3 * v[corner]) += dB.segment<3>(3 * corner);
+    if (ga) {
+      const Eigen::Matrix<double, 12, 1> dA = -2.0 * d * weight * a.hingeDerivatives[h].theta + (k * d * d) * a.hingeDerivatives[h].weight;
+      for (int corner = 0; corner < 4; ++corner) ga->segment<3>(3 * v[corner]) += dA.segment<3>(3 * corner);
+    }
+    if (gb) {
+      const Eigen::Matrix<double, 12, 1> dB = 2.0 * d * weight * b.hingeDerivatives[h].theta + (k * d * d) * b.hingeDerivatives[h].weight;
+      for (int corner = 0; corner < 4; ++corner) gb->segment<3>(3 * v[corner]) += dB.segment<3>(3 * corner);
     }
   }
   return value;
 }
 
 std::vector<double> DiscreteShells::pathSegments(const std::vector<Eigen::VectorXd>& shapes, bool closed,
-                                                 std::vector<Eigen::VectorXd>* gradients) const {
+                                                 std::vector<Eigen::VectorXd>* gradients, bool endGradients) const {
   const int count = int(shapes.size());
   if (count < 2) throw InvalidInputError("path energy: a path needs at least 2 shapes, got " + std::to_string(count));
   const int segments = closed ? count : count - 1;
   std::vector<double> values(size_t(segments), 0.0);
   if (gradients) gradients->assign(shapes.size(), Eigen::VectorXd::Zero(3 * numVertices_));
-  const PathTerms terms(*this, gradients != nullptr);
+  const auto wanted = [&](int k) { return gradients && (closed || endGradients || (k > 0 && k + 1 < count)); };
+  const PathTerms terms(*this);
   // Each thread runs a contiguous run of segments, sliding over its shapes (two shapes' data at a time). The
   // first shape of a run also ends the previous run: its share from this run goes to a buffer, added below.
   std::vector<Eigen::VectorXd> firstShapeGradients(static_cast<size_t>(threads_));
@@ -248,15 +253,15 @@ std::vector<double> DiscreteShells::pathSegments(const std::vector<Eigen::Vector
     try {
       PathTerms::Shape current, next;
       if (begin < end) {
-        terms.prepare(shapes[size_t(begin)], begin, current);
+        terms.prepare(shapes[size_t(begin)], begin, wanted(begin), current);
         firstShapes[size_t(thread)] = begin;
-        if (gradients) firstShapeGradients[size_t(thread)].setZero(3 * numVertices_);
+        if (wanted(begin)) firstShapeGradients[size_t(thread)].setZero(3 * numVertices_);
       }
       for (int s = begin; s < end; ++s) {
         const int b = (s + 1) % count;
-        terms.prepare(shapes[size_t(b)], b, next);
-        Eigen::VectorXd* ga = gradients ? (s == begin ? &firstShapeGradients[size_t(thread)] : &(*gradients)[size_t(s)]) : nullptr;
-        values[size_t(s)] = terms.segment(current, next, ga, gradients ? &(*gradients)[size_t(b)] : nullptr);
+        terms.prepare(shapes[size_t(b)], b, wanted(b), next);
+        Eigen::VectorXd* ga = !wanted(s) ? nullptr : s == begin ? &firstShapeGradients[size_t(thread)] : &(*gradients)[size_t(s)];
+        values[size_t(s)] = terms.segment(current, next, ga, wanted(b) ? &(*gradients)[size_t(b)] : nullptr);
         std::swap(current, next);
       }
     } catch (...) {
@@ -265,9 +270,8 @@ std::vector<double> DiscreteShells::pathSegments(const std::vector<Eigen::Vector
     }
   }
   if (error) std::rethrow_exception(error);
-  if (gradients)
-    for (size_t t = 0; t < firstShapes.size(); ++t)
-      if (firstShapes[t] >= 0) (*gradients)[size_t(firstShapes[t])] += firstShapeGradients[t];
+  for (size_t t = 0; t < firstShapes.size(); ++t)
+    if (firstShapes[t] >= 0 && wanted(firstShapes[t])) (*gradients)[size_t(firstShapes[t])] += firstShapeGradients[t];
   return values;
 }
 

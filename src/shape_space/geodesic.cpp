@@ -124,7 +124,7 @@ GeodesicResult pathEnergyGeodesic(const DeformationEnergy& energy, const Eigen::
       std::vector<Eigen::SparseMatrix<double>> rest;  // at the current path (empty: not computed)
       std::vector<Eigen::VectorXd> gradients;
       if (carried.cols() == 0) {
-        pathEnergy(energy, shapes, false, &gradients);
+        pathEnergy(energy, shapes, false, &gradients, false);
         rest = restHessians(energy, shapes, !space.ghost());
         enrich(subspace, flowTangents(gradients, rest, false));
       } else {
@@ -137,7 +137,7 @@ GeodesicResult pathEnergyGeodesic(const DeformationEnergy& energy, const Eigen::
                                            rest.empty() || space.ghost() ? nullptr : &rest);
         result.iterations += report.iterations;
         result.evaluations += report.evaluations;
-        result.pathEnergyHistory.push_back(pathEnergy(energy, shapes, false, &gradients));
+        result.pathEnergyHistory.push_back(pathEnergy(energy, shapes, false, &gradients, false));
         if (round == options.enrichmentRounds || !report.converged) break;
         if (!space.ghost()) {  // exact energies: stop once the unprojected gradient meets the rule too
           double full = 0.0;
@@ -156,7 +156,7 @@ GeodesicResult pathEnergyGeodesic(const DeformationEnergy& energy, const Eigen::
                            std::to_string(report.gradientSquaredNorm) + " > " + std::to_string(report.threshold) + ")");
   }
   std::vector<Eigen::VectorXd> gradients;
-  pathEnergy(energy, shapes, false, &gradients);
+  pathEnergy(energy, shapes, false, &gradients, false);
   result.finalFullResidualSquaredNorm = 0.0;
   for (size_t k = 1; k + 1 < gradients.size(); ++k) result.finalFullResidualSquaredNorm += gradients[k].squaredNorm();
   result.shapes = std::move(shapes);

@@ -58,7 +58,7 @@ void parallelFor(int count, Eigen::Index numVertices, const Body& body) {
 double pathEnergyOrInfinity(const DeformationEnergy& energy, const std::vector<Eigen::VectorXd>& shapes,
                             std::vector<Eigen::VectorXd>* gradients) {
   try {
-    return pathEnergy(energy, shapes, false, gradients);
+    return pathEnergy(energy, shapes, false, gradients, false);  // the ends are fixed
   } catch (const InvalidInputError&) {
     return std::numeric_limits<double>::infinity();
   }

@@ -13,15 +13,15 @@
 namespace deformation_enrichment::shape_space {
 
 double pathEnergy(const DeformationEnergy& energy, const std::vector<Eigen::VectorXd>& shapes, bool closed,
-                  std::vector<Eigen::VectorXd>* gradients) {
+                  std::vector<Eigen::VectorXd>* gradients, bool endGradients) {
   double sum = 0.0;
-  for (double segment : energy.pathSegments(shapes, closed, gradients)) sum += segment;  // eq. 4
+  for (double segment : energy.pathSegments(shapes, closed, gradients, endGradients)) sum += segment;  // eq. 4
   return sum;
 }
 
 double pathLength(const DeformationEnergy& energy, const std::vector<Eigen::VectorXd>& shapes, bool closed) {
   double length = 0.0;
-  for (double segment : energy.pathSegments(shapes, closed, nullptr)) length += std::sqrt(std::max(0.5 * segment, 0.0));
+  for (double segment : energy.pathSegments(shapes, closed, nullptr, false)) length += std::sqrt(std::max(0.5 * segment, 0.0));
   return length;
 }
 
@@ -47,7 +47,7 @@ std::vector<Eigen::SparseMatrix<double>> restHessians(const DeformationEnergy& e
 std::vector<Eigen::VectorXd> flowTangents(const DeformationEnergy& energy, const std::vector<Eigen::VectorXd>& shapes,
                                           bool closed) {
   std::vector<Eigen::VectorXd> gradients;
-  pathEnergy(energy, shapes, closed, &gradients);
+  pathEnergy(energy, shapes, closed, &gradients, false);
   return flowTangents(gradients, restHessians(energy, shapes, closed), closed);
 }
 

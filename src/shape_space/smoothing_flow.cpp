@@ -130,7 +130,7 @@ double SmoothingFlow::controlledPathEnergy(const std::vector<Eigen::VectorXd>& s
 
 std::vector<Eigen::VectorXd> SmoothingFlow::pathGradient() const {
   std::vector<Eigen::VectorXd> gradients;
-  shape_space::pathEnergy(energy_, current_.shapes, options_.closed, &gradients);
+  shape_space::pathEnergy(energy_, current_.shapes, options_.closed, &gradients, false);
   for (size_t i = 0; i < gradients.size(); ++i)
     if (!isFree(int(i))) gradients[i].setZero();
   return gradients;

@@ -92,7 +92,7 @@ public:
   /// and their derivatives), computed once per shape and shared by both directions of both its segments
   /// (discrete_shells_path.cpp); shapes in parallel on meshes of >= 1000 vertices. Same errors as evaluate.
   std::vector<double> pathSegments(const std::vector<Eigen::VectorXd>& shapes, bool closed,
-                                   std::vector<Eigen::VectorXd>* gradients) const override;
+                                   std::vector<Eigen::VectorXd>* gradients, bool endGradients) const override;
 
   /// DiscreteShells with the same parameters and thread count over `triangles`.
   std::unique_ptr<DeformationEnergy> onTriangles(const Eigen::Matrix3Xi& triangles, Eigen::Index numVertices) const override;

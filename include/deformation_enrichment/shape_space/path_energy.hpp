@@ -18,9 +18,10 @@
 
 namespace deformation_enrichment::shape_space {
 
-/// Eq. 4; with `gradients`, d(eq. 4)/dx_k for every shape k (the ends of an open path included).
+/// Eq. 4; with `gradients`, d(eq. 4)/dx_k for every shape k (the ends of an open path included unless
+/// !endGradients: zero vectors there, for solvers that hold the ends fixed).
 double pathEnergy(const DeformationEnergy& energy, const std::vector<Eigen::VectorXd>& shapes, bool closed = false,
-                  std::vector<Eigen::VectorXd>* gradients = nullptr);
+                  std::vector<Eigen::VectorXd>* gradients = nullptr, bool endGradients = true);
 
 /// sum_k sqrt((W(x_k, x_k+1) + W(x_k+1, x_k)) / 2) over the segments (W approximates the squared
 /// Riemannian distance to second order, [Brandt16 §5]).

@@ -26,8 +26,8 @@ std::vector<VectorXd> noisyPath(const test::FlatMesh& mesh, int count, double am
 void expectSameAsDefault(const DiscreteShells& energy, const std::vector<VectorXd>& path, bool closed) {
   const test::ForwardingEnergy reference(energy);
   std::vector<VectorXd> gradients, expectedGradients;
-  const std::vector<double> values = energy.pathSegments(path, closed, &gradients);
-  const std::vector<double> expected = reference.pathSegments(path, closed, &expectedGradients);
+  const std::vector<double> values = energy.pathSegments(path, closed, &gradients, true);
+  const std::vector<double> expected = reference.pathSegments(path, closed, &expectedGradients, true);
   ASSERT_EQ(values.size(), expected.size());
   EXPECT_EQ(values.size(), closed ? path.size() : path.size() - 1);
   // Relative, plus the round-off of the membrane's cancelling O(area) terms (these meshes have area ~1).
@@ -35,7 +35,7 @@ void expectSameAsDefault(const DiscreteShells& energy, const std::vector<VectorX
   ASSERT_EQ(gradients.size(), path.size());
   for (size_t k = 0; k < path.size(); ++k)
     EXPECT_LT((gradients[k] - expectedGradients[k]).norm(), 1e-11 * expectedGradients[k].norm()) << "shape " << k;
-  const std::vector<double> valuesOnly = energy.pathSegments(path, closed, nullptr);
+  const std::vector<double> valuesOnly = energy.pathSegments(path, closed, nullptr, true);
   for (size_t s = 0; s < values.size(); ++s) EXPECT_NEAR(valuesOnly[s], values[s], 1e-13 * values[s] + 1e-15);
 }
 
@@ -59,6 +59,27 @@ TEST(PathSegments, EqualTheTermByTermSumForBothMembranesOpenAndClosed) {
   }
 }
 
+TEST(PathSegments, WithoutEndGradientsTheInnerOnesAreUnchanged) {
+  const test::FlatMesh mesh = test::bumpyGrid(33, 8);  // 1089 vertices: the parallel runs split the path
+  DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, DiscreteShellsParameters::hyperelastic());
+  const test::ForwardingEnergy reference(energy);
+  const std::vector<VectorXd> path = noisyPath(mesh, 5, 0.002);
+  for (const int threads : {1, 3}) {
+    energy.setThreadCount(threads);
+    for (const DeformationEnergy* e : {static_cast<const DeformationEnergy*>(&energy), static_cast<const DeformationEnergy*>(&reference)}) {
+      std::vector<VectorXd> all, inner;
+      const std::vector<double> values = e->pathSegments(path, false, &all, true);
+      const std::vector<double> innerValues = e->pathSegments(path, false, &inner, false);
+      for (size_t s = 0; s < values.size(); ++s) EXPECT_NEAR(innerValues[s], values[s], 1e-14 * values[s]);
+      ASSERT_EQ(inner.size(), path.size());
+      EXPECT_EQ(inner.front().norm(), 0.0);
+      EXPECT_EQ(inner.back().norm(), 0.0);
+      EXPECT_GT(all.front().norm(), 0.0);
+      for (size_t k = 1; k + 1 < path.size(); ++k) EXPECT_LT((inner[k] - all[k]).norm(), 1e-14 * all[k].norm()) << "shape " << k;
+    }
+  }
+}
+
 TEST(PathSegments, WrapTheAngleDifferenceOfAHingeFoldingThroughPi) {
   Eigen::Matrix3Xi triangles(3, 2);
   triangles << 0, 1, 1, 0, 2, 3;
@@ -79,10 +100,10 @@ TEST(PathSegments, GradientsMatchFiniteDifferences) {
     const DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, parameters);
     const std::vector<VectorXd> path = noisyPath(mesh, 3, 0.04);
     std::vector<VectorXd> gradients;
-    energy.pathSegments(path, true, &gradients);
+    energy.pathSegments(path, true, &gradients, true);
     const auto total = [&](const std::vector<VectorXd>& shapes) {
       double sum = 0.0;
-      for (double s : energy.pathSegments(shapes, true, nullptr)) sum += s;
+      for (double s : energy.pathSegments(shapes, true, nullptr, true)) sum += s;
       return sum;
     };
     const double h = 1e-6;
@@ -104,9 +125,9 @@ TEST(PathSegments, SerialAndParallelAgree) {
   const std::vector<VectorXd> path = noisyPath(mesh, 7, 0.002);
   std::vector<VectorXd> serialGradients, parallelGradients;
   energy.setThreadCount(1);
-  const std::vector<double> serial = energy.pathSegments(path, true, &serialGradients);
+  const std::vector<double> serial = energy.pathSegments(path, true, &serialGradients, true);
   energy.setThreadCount(3);
-  const std::vector<double> parallel = energy.pathSegments(path, true, &parallelGradients);
+  const std::vector<double> parallel = energy.pathSegments(path, true, &parallelGradients, true);
   for (size_t s = 0; s < serial.size(); ++s) EXPECT_NEAR(serial[s], parallel[s], 1e-13 * serial[s]);
   for (size_t k = 0; k < path.size(); ++k)
     EXPECT_LT((serialGradients[k] - parallelGradients[k]).norm(), 1e-12 * serialGradients[k].norm());
@@ -116,19 +137,19 @@ TEST(PathSegments, BadInputGivesClearErrors) {
   const test::FlatMesh mesh = test::bumpyGrid(4, 2);
   const DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, DiscreteShellsParameters::hyperelastic());
   std::vector<VectorXd> path = noisyPath(mesh, 3, 0.01);
-  EXPECT_THROW(energy.pathSegments({path[0]}, false, nullptr), InvalidInputError);
+  EXPECT_THROW(energy.pathSegments({path[0]}, false, nullptr, true), InvalidInputError);
   path[1].segment<3>(3) = path[1].segment<3>(0);  // collapses the triangles at vertices 0 and 1
   try {
-    energy.pathSegments(path, false, nullptr);
+    energy.pathSegments(path, false, nullptr, true);
     ADD_FAILURE() << "a degenerate shape was accepted";
   } catch (const InvalidInputError& e) {
     EXPECT_NE(std::string(e.what()).find("shape 1 of the path is degenerate"), std::string::npos) << e.what();
   }
   path[1] = path[0];
   path[2][4] = std::nan("");
-  EXPECT_THROW(energy.pathSegments(path, false, nullptr), InvalidInputError);
+  EXPECT_THROW(energy.pathSegments(path, false, nullptr, true), InvalidInputError);
   path[2].resize(6);
-  EXPECT_THROW(energy.pathSegments(path, false, nullptr), InvalidInputError);
+  EXPECT_THROW(energy.pathSegments(path, false, nullptr, true), InvalidInputError);
 }
 
 }  // namespace deformation_enrichment::shape_space
