@@ -251,7 +251,9 @@ std::vector<double> DiscreteShells::pathSegments(const std::vector<Eigen::Vector
 #endif
     const int begin = segments * thread / team, end = segments * (thread + 1) / team;
     try {
-      PathTerms::Shape current, next;
+      // Kept per thread across calls: freed, these megabytes went back to the OS and every call paid their
+      // page faults again (measured on the finger: as much as the evaluations' arithmetic).
+      thread_local PathTerms::Shape current, next;
       if (begin < end) {
         terms.prepare(shapes[size_t(begin)], begin, wanted(begin), current);
         firstShapes[size_t(thread)] = begin;

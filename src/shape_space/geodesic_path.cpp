@@ -174,8 +174,10 @@ PathSolveReport minimisePathEnergyReduced(const EvaluationSpace& space, std::vec
     }
     return f;
   };
+  std::vector<Eigen::SparseMatrix<double>> rest;  // kept: the model's Hessians reuse their storage
   objective.hessian = [&](const Eigen::VectorXd& q) {
-    return reducedHessianModel(restHessians(evaluated, evalShapes(q)), evalBasis, evaluated.numVertices());
+    restHessians(evaluated, evalShapes(q), rest);
+    return reducedHessianModel(rest, evalBasis, evaluated.numVertices());
   };
   Eigen::VectorXd q = Eigen::VectorXd::Zero(unknowns), g0;
   if (!std::isfinite(objective.evaluate(q, &g0))) throw NumericalError("reduced path energy: eq. 4 is not finite at the start");

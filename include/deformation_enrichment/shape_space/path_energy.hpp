@@ -30,8 +30,10 @@ double pathLength(const DeformationEnergy& energy, const std::vector<Eigen::Vect
 /// The rest Hessians d2d2 W(x_k, x_k) of the shapes (both triangles stored; in parallel on meshes of >= 1000
 /// vertices): half eq. 9's metric, and the reduced geodesic solver's start model, so a caller with both at one
 /// path computes them once. Without `ends`, the first and last are left empty (an open path's fixed ends).
-std::vector<Eigen::SparseMatrix<double>> restHessians(const DeformationEnergy& energy,
-                                                      const std::vector<Eigen::VectorXd>& shapes, bool ends = true);
+/// Written into `hessians` (resized to the shapes) in place: a caller that keeps it reuses the storage
+/// (measured: fresh 3 MB matrices' page faults cost more than their assembly on the finger).
+void restHessians(const DeformationEnergy& energy, const std::vector<Eigen::VectorXd>& shapes,
+                  std::vector<Eigen::SparseMatrix<double>>& hessians, bool ends = true);
 
 /// Flow tangents of eq. 9 at every shape: v_k = -1/2 H_k^-1 d(eq. 4)/dx_k with H_k = d1d1 W(x_k, x_k) +
 /// d2d2 W(x_k, x_k) = 2 d2d2 W(x_k, x_k) plus a small ridge (rigid null space); zero vectors at the fixed
