@@ -1,7 +1,9 @@
 #include "deformation_enrichment/shape_space/deformation_energy.hpp"
 
 #include <cmath>
+#include <exception>
 #include <string>
+#include <utility>
 
 #include "deformation_enrichment/error.hpp"
 
@@ -42,6 +44,48 @@ void DeformationEnergy::evaluate(const Eigen::VectorXd& reference, const Eigen::
 
 std::unique_ptr<DeformationEnergy> DeformationEnergy::onTriangles(const Eigen::Matrix3Xi&, Eigen::Index) const {
   throw InvalidInputError("DeformationEnergy: this energy cannot be evaluated on another mesh (no ghost mesh)");
+}
+
+std::vector<double> DeformationEnergy::pathSegments(const std::vector<Eigen::VectorXd>& shapes, bool closed,
+                                                    std::vector<Eigen::VectorXd>* gradients, bool endGradients) const {
+  const int count = int(shapes.size());
+  if (count < 2) throw InvalidInputError("path energy: a path needs at least 2 shapes, got " + std::to_string(count));
+  const int segments = closed ? count : count - 1;
+  const int passes = 2 * segments;  // pass 2s: W(x_s, x_s+1); pass 2s+1: W(x_s+1, x_s)
+  std::vector<double> values(size_t(passes), 0.0);
+  std::vector<Eigen::VectorXd> gradReference(gradients ? size_t(passes) : 0), gradDeformed(gradients ? size_t(passes) : 0);
+  const auto shapesOf = [&](int p) {
+    const int a = p / 2, b = (a + 1) % count;
+    return p % 2 == 0 ? std::pair<int, int>{a, b} : std::pair<int, int>{b, a};
+  };
+  const auto wanted = [&](int k) { return gradients && (closed || endGradients || (k > 0 && k + 1 < count)); };
+  std::exception_ptr error;
+#pragma omp parallel for schedule(dynamic) if (numVertices() >= 1000)
+  for (int p = 0; p < passes; ++p) {
+    try {
+      const auto [reference, deformed] = shapesOf(p);
+      EnergyOutputs out;
+      out.value = &values[size_t(p)];
+      if (wanted(reference)) out.gradientReference = &gradReference[size_t(p)];
+      if (wanted(deformed)) out.gradientDeformed = &gradDeformed[size_t(p)];
+      evaluate(shapes[size_t(reference)], shapes[size_t(deformed)], out);
+    } catch (...) {
+#pragma omp critical
+      error = std::current_exception();
+    }
+  }
+  if (error) std::rethrow_exception(error);
+  if (gradients) {
+    gradients->assign(shapes.size(), Eigen::VectorXd::Zero(shapes.front().size()));
+    for (int p = 0; p < passes; ++p) {
+      const auto [reference, deformed] = shapesOf(p);
+      if (wanted(reference)) (*gradients)[size_t(reference)] += gradReference[size_t(p)];
+      if (wanted(deformed)) (*gradients)[size_t(deformed)] += gradDeformed[size_t(p)];
+    }
+  }
+  std::vector<double> sums(static_cast<size_t>(segments));
+  for (size_t s = 0; s < sums.size(); ++s) sums[s] = values[2 * s] + values[2 * s + 1];
+  return sums;
 }
 
 std::unique_ptr<WeightedReferenceEnergy> DeformationEnergy::weightedReferences(

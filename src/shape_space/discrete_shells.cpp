@@ -22,14 +22,11 @@ namespace deformation_enrichment::shape_space {
 namespace {
 
 using detail::HessianPattern;
+using detail::kDegenerateAreaRatio;
+using detail::kParallelVertices;
 using detail::LocalEdge;
 using detail::LocalTerm;
 
-constexpr double kDegenerateAreaRatio = 1e-8;
-// Below this many vertices a pass runs serially: the OpenMP team's idle spinning costs more than the work
-// (measured: a 3-step smoothing of a 366-vertex MD2 clip took 4.7 s with 2 threads, 0.6 s serially, on a
-// loaded 2-core machine).
-constexpr Eigen::Index kParallelVertices = 1000;
 
 // The internal need flags of an output request.
 unsigned needOf(const EnergyOutputs& outputs) {
@@ -77,15 +74,22 @@ void addHingeTerm(const std::array<Eigen::Vector3d, 4>& x, const std::array<Eige
                   double weight, unsigned need, LocalTerm<4>& out) {
   const bool needDeformedAngle = (need & (detail::kGradientDeformed | detail::kHessianDeformed | detail::kHessianMixed)) != 0u;
   const bool needReferenceDerivatives = (need & (detail::kGradientReference | detail::kHessianMixed | detail::kHessianReference)) != 0u;
-  // Angle derivatives only when needed (a HingeAngle carries a 12 x 12 Hessian).
-  // Without the Hessian only the gradient is filled (the HingeAngle Hessian stays unread).
+  // The angle difference is taken modulo 2 pi into [-pi, pi]: a hinge folding through +-pi changes by a
+  // little, not by 2 pi (the derivatives are unaffected; the shift is locally constant). One atan2 of the
+  // rotation between the two hinges gives it directly (measured: atan2 was a third of a value pass).
+  const double d = dihedralAngleDifference(dihedralAngleVector(x[0], x[1], x[2], x[3]),
+                                           dihedralAngleVector(xBar[0], xBar[1], xBar[2], xBar[3]));
+  // Angle derivatives only when needed (a HingeAngle carries a 12 x 12 Hessian). Without the Hessian only the
+  // gradient is filled (the HingeAngle Hessian stays unread). The angle Hessians enter multiplied by d, so they
+  // are skipped where d = 0, e.g. at the rest shape (the rest Hessians of eq. 9 and the geodesic's model).
+  const bool angleHessians = d != 0.0;
   HingeAngle theta, thetaBar;
-  if (need & detail::kHessianDeformed) {
+  if ((need & detail::kHessianDeformed) && angleHessians) {
     theta = dihedralAngleDerivatives(x[0], x[1], x[2], x[3], true);
   } else if (needDeformedAngle) {
     theta.gradient = dihedralAngleGradient(x[0], x[1], x[2], x[3]);
   }
-  if (need & detail::kHessianReference) {
+  if ((need & detail::kHessianReference) && angleHessians) {
     thetaBar = dihedralAngleDerivatives(xBar[0], xBar[1], xBar[2], xBar[3], true);
   } else if (needReferenceDerivatives) {
     thetaBar.gradient = dihedralAngleGradient(xBar[0], xBar[1], xBar[2], xBar[3]);
@@ -105,33 +109,16 @@ void addHingeTerm(const std::array<Eigen::Vector3d, 4>& x, const std::array<Eige
     wGradient = w.gradientReference;
     wHessian = w.hessianReference;
   } else {
-    // Closed form (measured: the jets were an eighth of a gradient pass): w_bar = c q0 / (A1 + A2) with
-    // triangles (i, j, k) and (i, j, l), dA/dx_a = n_hat x (x_c - x_b) / 2 for (a, b, c) cyclic.
-    const Eigen::Vector3d e = xBar[1] - xBar[0];
-    const Eigen::Vector3d m1 = e.cross(xBar[2] - xBar[0]), m2 = e.cross(xBar[3] - xBar[0]);
-    const double twiceA1 = m1.norm(), twiceA2 = m2.norm(), areaSum = 0.5 * (twiceA1 + twiceA2);
-    wBar = c * e.squaredNorm() / areaSum;
-    if (needReferenceDerivatives) {
-      const Eigen::Vector3d h1 = m1 / (2.0 * twiceA1), h2 = m2 / (2.0 * twiceA2);  // n_hat / 2
-      const double lengthFactor = 2.0 * c / areaSum, areaFactor = -wBar / areaSum;
-      wGradient.segment<3>(0) = -lengthFactor * e + areaFactor * (h1.cross(xBar[2] - xBar[1]) + h2.cross(xBar[3] - xBar[1]));
-      wGradient.segment<3>(3) = lengthFactor * e + areaFactor * (h1.cross(xBar[0] - xBar[2]) + h2.cross(xBar[0] - xBar[3]));
-      wGradient.segment<3>(6) = areaFactor * h1.cross(e);
-      wGradient.segment<3>(9) = areaFactor * h2.cross(e);
-    }
+    wBar = detail::hingeWeightAndGradient(xBar, c, needReferenceDerivatives ? &wGradient : nullptr);
   }
-  // The angle difference is taken modulo 2 pi into [-pi, pi]: a hinge folding through +-pi changes by a
-  // little, not by 2 pi (the derivatives are unaffected; the shift is locally constant). One atan2 of the
-  // rotation between the two hinges gives it directly (measured: atan2 was a third of a value pass).
-  const double d = dihedralAngleDifference(dihedralAngleVector(x[0], x[1], x[2], x[3]),
-                                           dihedralAngleVector(xBar[0], xBar[1], xBar[2], xBar[3]));
   out.value += weight * d * d * wBar;
   if (need & detail::kGradientDeformed) out.gradientDeformed += weight * 2.0 * d * wBar * theta.gradient;
   if (need & detail::kGradientReference) {
     out.gradientReference += weight * (-2.0 * d * wBar * thetaBar.gradient + d * d * wGradient);
   }
   if (need & detail::kHessianDeformed) {
-    out.hessianDeformed += weight * 2.0 * wBar * (theta.gradient * theta.gradient.transpose() + d * theta.hessian);
+    out.hessianDeformed += weight * 2.0 * wBar * theta.gradient * theta.gradient.transpose();
+    if (angleHessians) out.hessianDeformed += weight * 2.0 * wBar * d * theta.hessian;
   }
   if (need & detail::kHessianMixed) {
     out.hessianMixed += weight * 2.0 * (d * wGradient - wBar * thetaBar.gradient) * theta.gradient.transpose();
@@ -139,8 +126,8 @@ void addHingeTerm(const std::array<Eigen::Vector3d, 4>& x, const std::array<Eige
   if (need & detail::kHessianReference) {
     const Eigen::Matrix<double, 12, 12> cross = thetaBar.gradient * wGradient.transpose();
     out.hessianReference += weight * (2.0 * wBar * thetaBar.gradient * thetaBar.gradient.transpose() -
-                                      2.0 * d * wBar * thetaBar.hessian - 2.0 * d * (cross + cross.transpose()) +
-                                      d * d * wHessian);
+                                      2.0 * d * (cross + cross.transpose()) + d * d * wHessian);
+    if (angleHessians) out.hessianReference -= weight * 2.0 * d * wBar * thetaBar.hessian;
   }
 }
 
@@ -306,15 +293,17 @@ void DiscreteShells::checkTriangles(const Eigen::VectorXd& shape, const char* na
     const Eigen::Vector3d x0 = shape.segment<3>(3 * triangles_(0, t));
     const Eigen::Vector3d x1 = shape.segment<3>(3 * triangles_(1, t));
     const Eigen::Vector3d x2 = shape.segment<3>(3 * triangles_(2, t));
-    const double doubleArea = (x1 - x0).cross(x2 - x0).norm();
-    const double scale = (x1 - x0).squaredNorm() + (x2 - x1).squaredNorm() + (x0 - x2).squaredNorm();
-    if (!(doubleArea > 2.0 * kDegenerateAreaRatio * scale)) {
-      throw InvalidInputError(std::string("DiscreteShells: triangle ") + std::to_string(t) + " (vertices " +
-                              std::to_string(triangles_(0, t)) + ", " + std::to_string(triangles_(1, t)) + ", " +
-                              std::to_string(triangles_(2, t)) + ") of the " + name + " shape is degenerate (area " +
-                              std::to_string(0.5 * doubleArea) + ")");
-    }
+    const double doubleAreaSquared = (x1 - x0).cross(x2 - x0).squaredNorm();  // squared: no square root per triangle
+    const double bound = 2.0 * kDegenerateAreaRatio * ((x1 - x0).squaredNorm() + (x2 - x1).squaredNorm() + (x0 - x2).squaredNorm());
+    if (!(doubleAreaSquared > bound * bound))
+      throwDegenerate(t, std::string("the ") + name + " shape", 0.5 * std::sqrt(doubleAreaSquared));
   }
+}
+
+void DiscreteShells::throwDegenerate(Eigen::Index t, const std::string& shape, double area) const {
+  throw InvalidInputError("DiscreteShells: triangle " + std::to_string(t) + " (vertices " + std::to_string(triangles_(0, t)) +
+                          ", " + std::to_string(triangles_(1, t)) + ", " + std::to_string(triangles_(2, t)) + ") of " +
+                          shape + " is degenerate (area " + std::to_string(area) + ")");
 }
 
 void DiscreteShells::assemble(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed,
@@ -370,16 +359,7 @@ void DiscreteShells::assemble(const Eigen::VectorXd& reference, const Eigen::Vec
       const auto xBar = gather<3>(reference, v);
       LocalTerm<3> term(need);
       if (hyperelastic && !(need & (detail::kHessianMixed | detail::kHessianReference))) {
-        // [Heeren12 eq. 8]: value and gradients in closed form; a deformed Hessian by jets in the
-        // three deformed squared lengths only (with a reference gradient the jets would carry all six).
-        detail::addHyperelasticFace(x, xBar, p.mu, p.lambda, need, term);
-        if (need & detail::kHessianDeformed) {
-          LocalTerm<3> hessianOnly(detail::kHessianDeformed);
-          detail::addSquaredLengthTerm<3, 3, 3>([&p](const auto& q) { return detail::hyperelasticMembrane(q, p.mu, p.lambda); },
-                                                x, xBar, kTriangleEdges, kTriangleEdges, detail::kHessianDeformed, 1.0,
-                                                hessianOnly);
-          term.hessianDeformed += hessianOnly.hessianDeformed;
-        }
+        detail::addHyperelasticFace(x, xBar, p.mu, p.lambda, need, term);  // [Heeren12 eq. 8] in closed form
       } else if (hyperelastic) {  // [Heeren12 eq. 8]
         detail::addSquaredLengthTerm<3, 3, 3>([&p](const auto& q) { return detail::hyperelasticMembrane(q, p.mu, p.lambda); },
                                               x, xBar, kTriangleEdges, kTriangleEdges, need, 1.0, term);

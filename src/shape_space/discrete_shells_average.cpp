@@ -29,7 +29,7 @@ namespace deformation_enrichment::shape_space {
 namespace {
 
 
-constexpr double kDegenerateAreaRatio = 1e-8;  // as DiscreteShells::checkTriangles
+using detail::kDegenerateAreaRatio;
 
 template <int NV, class Index>
 std::array<Eigen::Vector3d, NV> gatherCorners(const Eigen::VectorXd& shape, const Index& vertices) {
@@ -68,11 +68,8 @@ public:
       const Eigen::VectorXd& ref = *references[i];
       for (Eigen::Index t = 0; t < numTriangles; ++t) {
         const auto x = gatherCorners<3>(ref, shells.triangles().col(t));
-        if (degenerate(x))
-          throw InvalidInputError("DiscreteShells: triangle " + std::to_string(t) + " of reference " + std::to_string(i) +
-                                  " is degenerate");
         const std::array<double, 3> r = squaredLengths(x);
-        const double area = detail::triangleArea(r[0], r[1], r[2]);
+        const double area = referenceArea(x, r, t, i);
         Face& f = faces_[size_t(t)];
         if (hyperelastic_) {
           const double c = 0.5 * p.mu / (8.0 * area);
@@ -102,10 +99,8 @@ public:
           double theta = dihedralAngle(x[0], x[1], x[2], x[3]);
           // Unwrapped against the first example so that hinges near +-pi aggregate consistently.
           if (first) thetaFirst[h] = theta;
-          else theta = thetaFirst[h] + std::remainder(theta - thetaFirst[h], 2.0 * M_PI);
-          const std::array<double, 5> q{(x[0] - x[1]).squaredNorm(), (x[1] - x[2]).squaredNorm(), (x[2] - x[0]).squaredNorm(),
-                                        (x[0] - x[3]).squaredNorm(), (x[3] - x[1]).squaredNorm()};
-          const double omega = w * p.bendingWeight * detail::hingeWeight(q, hingeFactor);
+          else theta = thetaFirst[h] + detail::wrappedAngle(theta - thetaFirst[h]);
+          const double omega = w * p.bendingWeight * detail::hingeWeightAndGradient(x, hingeFactor, nullptr);
           hinges_[h].omega += omega;
           omegaTheta[h] += omega * theta;
           omegaTheta2[h] += omega * (theta - thetaFirst[h]) * (theta - thetaFirst[h]);  // shifted: no cancellation
@@ -200,21 +195,22 @@ public:
     static constexpr std::array<detail::LocalEdge, 3> kTriangleEdges{{{1, 2}, {2, 0}, {0, 1}}};  // edge m opposite corner m
     static constexpr std::array<detail::LocalEdge, 1> kEdge{{{0, 1}}};
     static constexpr std::array<detail::LocalEdge, 0> kNone{};
-    for (Eigen::Index t = 0; t < shells_.numTriangles(); ++t) {  // jets in the 3 deformed squared lengths
+    for (Eigen::Index t = 0; t < shells_.numTriangles(); ++t) {
       const std::array<int, 3> v{shells_.triangles()(0, t), shells_.triangles()(1, t), shells_.triangles()(2, t)};
       const auto x = gatherCorners<3>(y, v);
       if (degenerate(x)) throw InvalidInputError("DiscreteShells: triangle " + std::to_string(t) + " of the deformed shape is degenerate");
       const Face& f = faces_[size_t(t)];
       detail::LocalTerm<3> term(detail::kHessianDeformed);
-      const bool hyperelastic = hyperelastic_;
-      detail::addSquaredLengthTerm<3, 3, 0>(
-          [&f, hyperelastic](const auto& q) {
-            const auto area = detail::triangleArea(q[0], q[1], q[2]);
-            if (hyperelastic) return f.linear[0] * q[0] + f.linear[1] * q[1] + f.linear[2] * q[2] + f.quadratic * area * area -
-                                     f.logarithmic * log(area / f.scale);
-            return f.quadratic * (area - f.linear[0]) * (area - f.linear[0]);
-          },
-          x, x, kTriangleEdges, kNone, detail::kHessianDeformed, 1.0, term);
+      if (hyperelastic_) {  // sum_m C_m q_m + D A^2 - S / 2 log(A^2) + const, in closed form
+        detail::addFaceHessian(x, f.linear, f.quadratic, -0.5 * f.logarithmic, term.hessianDeformed);
+      } else {  // k_A a (A - A_star)^2: jets in the 3 deformed squared lengths
+        detail::addSquaredLengthTerm<3, 3, 0>(
+            [&f](const auto& q) {
+              const auto area = detail::triangleArea(q[0], q[1], q[2]);
+              return f.quadratic * (area - f.linear[0]) * (area - f.linear[0]);
+            },
+            x, x, kTriangleEdges, kNone, detail::kHessianDeformed, 1.0, term);
+      }
       detail::scatterHessian<3>(term.hessianDeformed, v, shells_.hessianPattern(), values);
     }
     for (size_t e = 0; e < edges_.size(); ++e) {
@@ -247,7 +243,7 @@ private:
   HingeValue hingeValue(size_t h, double theta) const {
     const Hinge& hinge = hinges_[h];
     HingeValue b;
-    const double d = std::remainder(theta - hinge.theta, 2.0 * M_PI);
+    const double d = detail::wrappedAngle(theta - hinge.theta);
     if (d >= hinge.lowest && d <= hinge.highest) {
       b.value = hinge.omega * d * d + hinge.constant;
       b.slope = 2.0 * hinge.omega * d;
@@ -256,7 +252,7 @@ private:
     }
     for (size_t i = 0; i < references_; ++i) {
       const HingeTerm& term = hingeTerms_[i * hinges_.size() + h];
-      const double di = std::remainder(theta - term.theta, 2.0 * M_PI);
+      const double di = detail::wrappedAngle(theta - term.theta);
       b.value += term.omega * di * di;
       b.slope += 2.0 * term.omega * di;
       b.curvature += 2.0 * term.omega;
@@ -270,6 +266,14 @@ private:
       throw InvalidInputError("DiscreteShells: deformed shape has " + std::to_string(y.size()) + " entries, expected " +
                               std::to_string(n));
     if (!y.allFinite()) throw InvalidInputError("DiscreteShells: deformed shape is not finite");
+  }
+
+  // The area of face t of reference i as the single terms compute it (|n| / 2); throws if it is degenerate.
+  static double referenceArea(const std::array<Eigen::Vector3d, 3>& x, const std::array<double, 3>& q, Eigen::Index t, size_t i) {
+    const double doubleArea = (x[1] - x[0]).cross(x[2] - x[0]).norm();
+    if (!(doubleArea > 2.0 * kDegenerateAreaRatio * (q[0] + q[1] + q[2])))
+      throw InvalidInputError("DiscreteShells: triangle " + std::to_string(t) + " of reference " + std::to_string(i) + " is degenerate");
+    return 0.5 * doubleArea;
   }
 
   double referenceLength(const Eigen::VectorXd& ref, size_t e) const {
@@ -292,8 +296,8 @@ private:
       const double w = weights[i];
       if (w == 0.0) continue;
       for (Eigen::Index t = 0; t < shells_.numTriangles(); ++t) {
-        const std::array<double, 3> r = squaredLengths(gatherCorners<3>(*references[i], shells_.triangles().col(t)));
-        const double area = detail::triangleArea(r[0], r[1], r[2]), excess = area - faces_[size_t(t)].linear[0];
+        const auto x = gatherCorners<3>(*references[i], shells_.triangles().col(t));
+        const double area = referenceArea(x, squaredLengths(x), t, i), excess = area - faces_[size_t(t)].linear[0];
         faces_[size_t(t)].constant += w * p.areaWeight * excess * excess / area;
       }
       for (size_t e = 0; e < edges_.size(); ++e) {

@@ -103,6 +103,12 @@ GeodesicResult pathEnergyGeodesic(const DeformationEnergy& energy, const Eigen::
   result.ghostVertices = space.ghostVertices();
   std::vector<Eigen::VectorXd> shapes{a, b};
   Eigen::MatrixXd carried;  // reduced: the previous level's basis
+  // Reduced: eq. 4's gradients and the rest Hessians at the current path, shared by eq. 9's tangents and (on
+  // the fine mesh) the solver's start model (measured: a sixth of a finger geodesic); kept across levels so
+  // the Hessians reuse their storage.
+  std::vector<Eigen::SparseMatrix<double>> rest;
+  rest.reserve(size_t(options.shapes));  // growing would copy the matrices
+  std::vector<Eigen::VectorXd> gradients;
   while (int(shapes.size()) < options.shapes) {
     const int refined = std::min(options.shapes, (int(shapes.size()) - 1) * (options.insertPerSegment + 1) + 1);
     shapes = resample(shapes, refined);
@@ -119,26 +125,33 @@ GeodesicResult pathEnergyGeodesic(const DeformationEnergy& energy, const Eigen::
       // round adds the tangents at the current path.
       AffineSubspace subspace = pcaSubspace(shapes, reduction.subspaceDimension);
       subspace.origin.setZero();  // only the basis is used: shape k = (its current value) + B q_k
+      bool restAtPath = false;
       if (carried.cols() == 0) {
-        enrich(subspace, flowTangents(energy, shapes, false));
+        pathEnergy(energy, shapes, false, &gradients, false);
+        restHessians(energy, shapes, rest, !space.ghost());
+        restAtPath = true;
+        enrich(subspace, flowTangents(gradients, rest, false));
       } else {
         std::vector<Eigen::VectorXd> previous;
         for (Eigen::Index c = 0; c < carried.cols(); ++c) previous.push_back(carried.col(c));
         enrich(subspace, previous);
       }
       for (int round = 0;; ++round) {
-        report = minimisePathEnergyReduced(space, shapes, subspace.basis, solveOptions);
+        if (!restAtPath && !space.ghost()) restHessians(energy, shapes, rest);  // into the kept storage
+        report = minimisePathEnergyReduced(space, shapes, subspace.basis, solveOptions, space.ghost() ? nullptr : &rest);
+        restAtPath = false;  // the shapes moved
         result.iterations += report.iterations;
         result.evaluations += report.evaluations;
-        std::vector<Eigen::VectorXd> gradients;
-        result.pathEnergyHistory.push_back(pathEnergy(energy, shapes, false, space.ghost() ? nullptr : &gradients));
+        result.pathEnergyHistory.push_back(pathEnergy(energy, shapes, false, &gradients, false));
         if (round == options.enrichmentRounds || !report.converged) break;
         if (!space.ghost()) {  // exact energies: stop once the unprojected gradient meets the rule too
           double full = 0.0;
           for (size_t k = 1; k + 1 < gradients.size(); ++k) full += gradients[k].squaredNorm();
           if (full <= options.absoluteFactor * double(a.size()) * double(shapes.size() - 2)) break;
         }
-        if (enrich(subspace, flowTangents(energy, shapes, false)) == 0) break;
+        restHessians(energy, shapes, rest, !space.ghost());  // the ghost's start model needs its own
+        restAtPath = true;
+        if (enrich(subspace, flowTangents(gradients, rest, false)) == 0) break;
       }
       carried = subspace.basis;
     }
@@ -148,8 +161,7 @@ GeodesicResult pathEnergyGeodesic(const DeformationEnergy& energy, const Eigen::
       throw NumericalError("geodesic: eq. 4 on " + std::to_string(refined) + " shapes did not meet the stopping rule (|g|^2 = " +
                            std::to_string(report.gradientSquaredNorm) + " > " + std::to_string(report.threshold) + ")");
   }
-  std::vector<Eigen::VectorXd> gradients;
-  pathEnergy(energy, shapes, false, &gradients);
+  pathEnergy(energy, shapes, false, &gradients, false);
   result.finalFullResidualSquaredNorm = 0.0;
   for (size_t k = 1; k + 1 < gradients.size(); ++k) result.finalFullResidualSquaredNorm += gradients[k].squaredNorm();
   result.shapes = std::move(shapes);

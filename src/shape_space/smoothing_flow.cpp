@@ -130,7 +130,7 @@ double SmoothingFlow::controlledPathEnergy(const std::vector<Eigen::VectorXd>& s
 
 std::vector<Eigen::VectorXd> SmoothingFlow::pathGradient() const {
   std::vector<Eigen::VectorXd> gradients;
-  shape_space::pathEnergy(energy_, current_.shapes, options_.closed, &gradients);
+  shape_space::pathEnergy(energy_, current_.shapes, options_.closed, &gradients, false);
   for (size_t i = 0; i < gradients.size(); ++i)
     if (!isFree(int(i))) gradients[i].setZero();
   return gradients;
@@ -221,7 +221,9 @@ SmoothingFlow::Trial SmoothingFlow::trialStep(double tau) const {
   const std::vector<Eigen::VectorXd>& x = space_.restrict(current_.shapes, storage);
   const std::vector<Eigen::VectorXd>& input = space_.restrict(input_.shapes, inputStorage);
   Trial trial;
-  trial.shapes = current_.shapes;
+  trial.shapes.resize(current_.shapes.size());  // the free shapes are filled below: copy only the fixed ones
+  for (int i = 0; i < count; ++i)
+    if (!isFree(i)) trial.shapes[size_t(i)] = current_.shapes[size_t(i)];
   std::exception_ptr error;
 #pragma omp parallel for schedule(dynamic) if (options_.parallelShapes && parallelWorthIt(current_.shapes))
   for (int i = 0; i < count; ++i) {

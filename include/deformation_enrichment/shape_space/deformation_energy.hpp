@@ -76,6 +76,15 @@ public:
   /// mesh (ghost_mesh.hpp). The default throws InvalidInputError: not every energy has one.
   virtual std::unique_ptr<DeformationEnergy> onTriangles(const Eigen::Matrix3Xi& triangles, Eigen::Index numVertices) const;
 
+  /// The terms of eq. 4 along a path ([Brandt16 eq. 4]): W(x_s, x_s+1) + W(x_s+1, x_s) for every segment s
+  /// (with x_n-1 -> x_0 if closed) and, with gradients, their derivatives summed per shape; without
+  /// endGradients the ends of an open path get zero vectors instead (solvers that hold them fixed do not need
+  /// them). The default evaluates both directions of every segment (in parallel on meshes of >= 1000
+  /// vertices); an energy may share the work of one shape between both directions and both of its segments
+  /// (DiscreteShells does). Throws InvalidInputError for fewer than 2 shapes and passes on the evaluations' errors.
+  virtual std::vector<double> pathSegments(const std::vector<Eigen::VectorXd>& shapes, bool closed,
+                                           std::vector<Eigen::VectorXd>* gradients, bool endGradients) const;
+
   /// sum_i w_i W[references_i, .] prepared for repeated evaluation, or null if this energy has no such form
   /// (the default; callers then sum the terms). The result refers to this energy, which must outlive it.
   virtual std::unique_ptr<WeightedReferenceEnergy> weightedReferences(

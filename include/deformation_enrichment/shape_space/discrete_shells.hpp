@@ -25,6 +25,7 @@
 // triangle or a hinge), so blocks from different calls add without reallocation.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <string>
 #include <vector>
 
 #include "deformation_enrichment/shape_space/deformation_energy.hpp"
@@ -87,6 +88,12 @@ public:
   void evaluate(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed,
                 const EnergyOutputs& outputs) const override;
 
+  /// eq. 4's segment terms from each shape's element data (edge lengths, areas, dihedral angles, hinge weights
+  /// and their derivatives), computed once per shape and shared by both directions of both its segments
+  /// (discrete_shells_path.cpp); shapes in parallel on meshes of >= 1000 vertices. Same errors as evaluate.
+  std::vector<double> pathSegments(const std::vector<Eigen::VectorXd>& shapes, bool closed,
+                                   std::vector<Eigen::VectorXd>* gradients, bool endGradients) const override;
+
   /// DiscreteShells with the same parameters and thread count over `triangles`.
   std::unique_ptr<DeformationEnergy> onTriangles(const Eigen::Matrix3Xi& triangles, Eigen::Index numVertices) const override;
 
@@ -133,6 +140,9 @@ private:
     return result;
   }
   void checkTriangles(const Eigen::VectorXd& shape, const char* name) const;
+  /// Throws InvalidInputError naming triangle t of `shape` (e.g. "the deformed shape").
+  [[noreturn]] void throwDegenerate(Eigen::Index t, const std::string& shape, double area) const;
+  class PathTerms;  // pathSegments' per-shape data and segment terms
   void buildHessianPattern();
 
   Eigen::Matrix3Xi triangles_;

@@ -4,15 +4,16 @@
 // [Brandt16 §5]; [Heeren12]). Its critical points are those of the symmetric-average flow (eq. 1,
 // Lemma 2), reached without the flow's many small steps:
 //  - reduced: inner shape k = o_k + B q_k (o_k its initial value, B shared), BFGS over all q_k started from
-//    a quadratic model of the dense reduced Hessian B^T d2E B (a few hundred unknowns; measured on the
-//    finger: L-BFGS with a rest-Hessian preconditioner needed 200-400 evaluations, exact Newton about 10
-//    Hessians, each costing as much as 14 gradients); energy and derivatives optionally from the ghost mesh
-//    ([Brandt16 §6]) with the same reduced coordinates;
+//    a quadratic model of the dense reduced Hessian B^T d2E B built from the shapes' rest Hessians (a few
+//    hundred unknowns; measured on the finger: L-BFGS with a rest-Hessian preconditioner needed 200-400
+//    evaluations, exact Newton about 10 Hessians, each costing as much as 14 gradients); energy and
+//    derivatives optionally from the ghost mesh ([Brandt16 §6]) with the same reduced coordinates;
 //  - full: damped Newton in R^{3V (K-1)} with a sparse Cholesky factorisation, for checking.
 // Both run the shared damped Newton routine (damped_newton.hpp) on eq. 4 (path_energy.hpp).
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
 #include "deformation_enrichment/shape_space/damped_newton.hpp"
 #include "deformation_enrichment/shape_space/deformation_energy.hpp"
@@ -39,10 +40,12 @@ struct PathSolveReport {
 
 /// Reduced minimisation in place: shapes (fine, ends fixed) become o_k + basis q_k with q minimising eq. 4
 /// of the space's energy on its evaluated shapes (the ghost mesh's, if it has one). basis: 3V x d (fine).
+/// restHessians: restHessians(space.energy(), shapes) if the caller has them (the start model's), else null.
 /// Throws InvalidInputError for mismatched sizes, fewer than 3 shapes or an empty basis and
 /// NumericalError if eq. 4 is not finite at the start; an unmet stopping rule is reported (converged).
 PathSolveReport minimisePathEnergyReduced(const EvaluationSpace& space, std::vector<Eigen::VectorXd>& shapes,
-                                          const Eigen::MatrixXd& basis, const PathSolveOptions& options = {});
+                                          const Eigen::MatrixXd& basis, const PathSolveOptions& options = {},
+                                          const std::vector<Eigen::SparseMatrix<double>>* restHessians = nullptr);
 
 /// Full-space damped Newton (Levenberg-Marquardt, Armijo) on eq. 4 in place. Same errors.
 PathSolveReport minimisePathEnergyFull(const DeformationEnergy& energy, std::vector<Eigen::VectorXd>& shapes,

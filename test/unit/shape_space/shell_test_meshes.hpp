@@ -6,6 +6,7 @@
 #include <Eigen/SparseCore>
 
 #include "deformation_enrichment/shape_space/deformation_energy.hpp"
+#include "deformation_enrichment/shape_space/discrete_shells.hpp"
 
 namespace deformation_enrichment::shape_space::test {
 
@@ -74,6 +75,29 @@ inline FlatMesh octahedron() {
       4, 4, 4, 4, 5, 5, 5, 5;
   return m;
 }
+
+/// Forwards only the single-output methods, so evaluate(..., EnergyOutputs) and pathSegments run the
+/// interface's defaults.
+class ForwardingEnergy final : public DeformationEnergy {
+public:
+  explicit ForwardingEnergy(const DiscreteShells& inner) : inner_(inner) {}
+  Eigen::Index numVertices() const override { return inner_.numVertices(); }
+  double value(const Eigen::VectorXd& r, const Eigen::VectorXd& d) const override { return inner_.value(r, d); }
+  Eigen::VectorXd gradientDeformed(const Eigen::VectorXd& r, const Eigen::VectorXd& d) const override { return inner_.gradientDeformed(r, d); }
+  Eigen::VectorXd gradientReference(const Eigen::VectorXd& r, const Eigen::VectorXd& d) const override { return inner_.gradientReference(r, d); }
+  Eigen::SparseMatrix<double> hessianDeformed(const Eigen::VectorXd& r, const Eigen::VectorXd& d) const override {
+    return inner_.hessianDeformed(r, d);
+  }
+  Eigen::SparseMatrix<double> hessianMixed(const Eigen::VectorXd& r, const Eigen::VectorXd& d) const override {
+    return inner_.hessianMixed(r, d);
+  }
+  Eigen::SparseMatrix<double> hessianReference(const Eigen::VectorXd& r, const Eigen::VectorXd& d) const override {
+    return inner_.hessianReference(r, d);
+  }
+
+private:
+  const DiscreteShells& inner_;
+};
 
 /// vertices + uniform noise of the given amplitude per coordinate.
 inline Eigen::VectorXd perturbed(const Eigen::VectorXd& vertices, double amplitude, unsigned seed) {

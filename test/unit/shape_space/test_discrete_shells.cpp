@@ -78,32 +78,10 @@ TEST(DiscreteShells, InvariantToRigidMotionsOfEitherArgument) {
   }
 }
 
-// Forwards only the single-output methods, so evaluate(..., EnergyOutputs) runs the interface's default.
-class ForwardingEnergy final : public DeformationEnergy {
-public:
-  explicit ForwardingEnergy(const DiscreteShells& inner) : inner_(inner) {}
-  Eigen::Index numVertices() const override { return inner_.numVertices(); }
-  double value(const VectorXd& r, const VectorXd& d) const override { return inner_.value(r, d); }
-  VectorXd gradientDeformed(const VectorXd& r, const VectorXd& d) const override { return inner_.gradientDeformed(r, d); }
-  VectorXd gradientReference(const VectorXd& r, const VectorXd& d) const override { return inner_.gradientReference(r, d); }
-  Eigen::SparseMatrix<double> hessianDeformed(const VectorXd& r, const VectorXd& d) const override {
-    return inner_.hessianDeformed(r, d);
-  }
-  Eigen::SparseMatrix<double> hessianMixed(const VectorXd& r, const VectorXd& d) const override {
-    return inner_.hessianMixed(r, d);
-  }
-  Eigen::SparseMatrix<double> hessianReference(const VectorXd& r, const VectorXd& d) const override {
-    return inner_.hessianReference(r, d);
-  }
-
-private:
-  const DiscreteShells& inner_;
-};
-
 TEST(DeformationEnergy, SeveralOutputsInOneCallMatchTheSingleCalls) {
   const test::FlatMesh mesh = test::bumpyGrid(5, 3);
   const DiscreteShells shells(mesh.triangles, 25, DiscreteShellsParameters::classic());
-  const ForwardingEnergy forwarding(shells);
+  const test::ForwardingEnergy forwarding(shells);
   const VectorXd deformed = test::perturbed(mesh.vertices, 0.05, 6);
   for (const DeformationEnergy* energy : {static_cast<const DeformationEnergy*>(&shells),
                                           static_cast<const DeformationEnergy*>(&forwarding)}) {
