@@ -89,9 +89,10 @@ TEST(ToolTipGeometry, TriangleDistanceMatchesADenseSamplingOfTheTriangle) {
         EXPECT_LE(d, sampled + 1e-6) << link << " trial " << trial;
         EXPECT_GE(d, sampled - 2.0 * spacing - 1e-6) << link << " trial " << trial;
       } else {
-        // Alternating projections approach an intersection from outside: a few um at most, far below any
-        // contact distance.
-        EXPECT_LE(d, 1e-5) << link << " trial " << trial << ": the triangle cuts into the tip";
+        // Alternating projections approach an intersection from outside and stop after a bounded number of
+        // steps: some um above zero, how many depends on the compiler's rounding (13.5 um at worst seen, clang
+        // -O2 with ASan; below 10 um with gcc), far below any contact distance (mm).
+        EXPECT_LE(d, 1e-4) << link << " trial " << trial << ": the triangle cuts into the tip";
       }
     }
   }
