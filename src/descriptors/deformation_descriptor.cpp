@@ -12,8 +12,11 @@ Eigen::Matrix3Xd rigidFreeDisplacement(const Eigen::Matrix3Xd& rest, const Eigen
                                        const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
   if (rest.cols() != deformed.cols())
     throw InvalidInputError("rigidFreeDisplacement: rest and deformed point counts differ");
-  // eq. (10): u_bar(x) = R^T (x + u - t) - x
-  return R.transpose() * (deformed.colwise() - t) - rest;
+  // eq. (10): u_bar(x) = R^T (x + u - t) - x, a fixed-size product per point
+  const Eigen::Matrix3d Rt = R.transpose();
+  Eigen::Matrix3Xd uBar(3, rest.cols());
+  for (Eigen::Index k = 0; k < rest.cols(); ++k) uBar.col(k).noalias() = Rt * (deformed.col(k) - t) - rest.col(k);
+  return uBar;
 }
 
 DeformationDescriptor deformationDescriptor(const Window& window, const Eigen::Matrix3Xd& restPoints,

@@ -50,16 +50,28 @@ Window gatherWindow(const PointSampling& sampling, const Eigen::Vector3d& p, con
   return window;
 }
 
+void cacheBasis(Window& window, int firstOrder, int lastOrder) {
+  hermite::evaluateBasis(window.r, firstOrder, lastOrder, window.basis);
+  window.basisFirstOrder = firstOrder;
+  window.basisLastOrder = lastOrder;
+}
+
+namespace {
+
+// The window's cached basis when it has these orders, else the basis evaluated into `scratch`.
+const Eigen::MatrixXd& basisOf(const Window& window, int firstOrder, int lastOrder, Eigen::MatrixXd& scratch) {
+  if (window.basisFirstOrder == firstOrder && window.basisLastOrder == lastOrder && window.basis.rows() == window.r.cols())
+    return window.basis;
+  hermite::evaluateBasis(window.r, firstOrder, lastOrder, scratch);
+  return scratch;
+}
+
+}  // namespace
+
 hermite::MomentList densityMoments(const Window& window, int firstOrder, int lastOrder) {
   hermite::MomentList moments(firstOrder, lastOrder, 1);
-  const int size = moments.channelSize();
-  double basis[hermite::orderOffset(hermite::kMaxHermiteOrder + 1)];
-  double* sum = moments.values().data();
-  for (Eigen::Index k = 0; k < window.r.cols(); ++k) {
-    hermite::evaluateBasis(window.r.col(k), firstOrder, lastOrder, basis);
-    const double w = window.weight[k];
-    for (int c = 0; c < size; ++c) sum[c] += w * basis[c];  // eq. (8) with rho(x_m) = 1
-  }
+  Eigen::MatrixXd scratch;
+  moments.values().noalias() = basisOf(window, firstOrder, lastOrder, scratch).transpose() * window.weight;  // eq. (8), rho = 1
   return moments;
 }
 
@@ -70,17 +82,11 @@ hermite::MomentList fieldMoments(const Window& window, const Eigen::Matrix3Xd& f
                             " samples, window has " + std::to_string(window.r.cols()));
   if (!field.allFinite()) throw InvalidInputError("fieldMoments: field is not finite");
   hermite::MomentList moments(firstOrder, lastOrder, 3);
-  const int size = moments.channelSize();
-  double basis[hermite::orderOffset(hermite::kMaxHermiteOrder + 1)];
-  double* sum = moments.values().data();  // channel-major: u_x moments, then u_y, then u_z
-  for (Eigen::Index k = 0; k < window.r.cols(); ++k) {
-    hermite::evaluateBasis(window.r.col(k), firstOrder, lastOrder, basis);
-    for (int channel = 0; channel < 3; ++channel) {
-      const double w = window.weight[k] * field(channel, k);  // eq. (11): u_bar (x) H_n, weighted
-      double* target = sum + channel * size;
-      for (int c = 0; c < size; ++c) target[c] += w * basis[c];
-    }
-  }
+  // eq. (11): u_bar (x) H_n, weighted; channel-major values are the columns of a channelSize x 3 matrix.
+  const Eigen::MatrixX3d weighted = (field.array().rowwise() * window.weight.transpose().array()).transpose();
+  Eigen::Map<Eigen::MatrixXd> sums(moments.values().data(), moments.channelSize(), 3);
+  Eigen::MatrixXd scratch;
+  sums.noalias() = basisOf(window, firstOrder, lastOrder, scratch).transpose() * weighted;
   return moments;
 }
 

@@ -1,6 +1,6 @@
 // The frame path of EnrichmentSession: a state in, its enriched positions out (docs/design.md §6). The
 // configuration side (rest surfaces, example sets, knobs, the rebuild worker) is session_configuration.cpp.
-#include <cstring>
+#include <cmath>
 
 #include "deformation_enrichment/enrichment/enrichment_session.hpp"
 #include "deformation_enrichment/error.hpp"
@@ -24,25 +24,47 @@ std::shared_ptr<const RestSurface> EnrichmentSession::restFor(Eigen::Index verti
   return nullptr;
 }
 
-bool EnrichmentSession::unchanged(const Eigen::Matrix3Xf& positions, const std::vector<Contact>& contacts) const {
+bool EnrichmentSession::unchanged(const std::vector<Contact>& contacts) const {
   if (!memoValid_ || memoConfig_ != configVersion_ || memoRest_ != active_->version) return false;
   if (temporalFilter_.timeConstant() > 0.0) return false;  // its output moves on every state
-  if (contacts.size() != memoContacts_.size() || !std::equal(contacts.begin(), contacts.end(), memoContacts_.begin(), sameContact))
-    return false;
-  // One pass over the buffer (~0.1 ms per 100k points), far below describing, blending and mapping.
-  return positions.cols() == memoInput_.cols() &&
-         std::memcmp(positions.data(), memoInput_.data(), sizeof(float) * static_cast<std::size_t>(positions.size())) == 0;
+  return contacts.size() == memoContacts_.size() && std::equal(contacts.begin(), contacts.end(), memoContacts_.begin(), sameContact);
+}
+
+bool EnrichmentSession::loadState(const Eigen::Matrix3Xf& positions) {
+  // One pass instead of three (check, compare with the last input, convert): a float widened to double is
+  // exact, so the last state's double copy is also the memo's input. It goes into a second buffer, swapped
+  // in only when finite, so a refused state leaves the memo's state in place.
+  const bool comparable = memoValid_ && current_.cols() == positions.cols();
+  loading_.resize(3, positions.cols());
+  const float* in = positions.data();
+  const double* last = current_.data();
+  double* out = loading_.data();
+  const Eigen::Index count = positions.size();
+  bool same = comparable;
+  double poison = 0.0;  // x * 0 is NaN exactly for non-finite x
+  for (Eigen::Index i = 0; i < count; ++i) {
+    const double x = in[i];
+    same &= !comparable || last[i] == x;
+    poison += x * 0.0;
+    out[i] = x;
+  }
+  if (!std::isfinite(poison)) mesh::validateMeshState(positions, positions.cols());  // throws, naming the point
+  current_.swap(loading_);
+  return same;
 }
 
 void EnrichmentSession::enrichContacts(const Eigen::Matrix3Xf& positions, const std::vector<Contact>& contacts, double dt) {
-  current_ = positions.cast<double>();  // into the buffer of the last state: no allocation per state
-  enricher_->enricher->enrich(current_, contacts, scratch_);
+  enricher_->enricher->enrich(current_, contacts, scratch_, ContactEnricher::StateCheck::Skip);  // loadState checked it
   SurfaceEnrichment& touched = scratch_.enrichment;
   temporalFilter_.filter(touched, dt, current_.cols());  // a dt <= 0 (stamps going backwards) restarts it
   enriched_ = positions;
-  for (std::size_t k = 0; k < touched.vertices.size(); ++k)
-    enriched_.col(touched.vertices[k]) += touched.displacements.col(static_cast<Eigen::Index>(k)).cast<float>();
-  if (!enriched_.allFinite()) {
+  bool finite = true;  // the input is finite: only the touched vertices can have become non-finite
+  for (std::size_t k = 0; k < touched.vertices.size(); ++k) {
+    auto vertex = enriched_.col(touched.vertices[k]);
+    vertex += touched.displacements.col(static_cast<Eigen::Index>(k)).cast<float>();
+    finite &= vertex.allFinite();
+  }
+  if (!finite) {
     temporalFilter_.reset();
     throw NumericalError("enrichment produced a non-finite position");
   }
@@ -72,14 +94,18 @@ const FrameResult& EnrichmentSession::enrich(const Eigen::Matrix3Xf& positions, 
                                          std::to_string(newest->geometry.surface.numVertices())
                                    : std::string("no rest surface yet"));
   }
-  mesh::validateMeshState(positions, positions.cols());
+  // Checked before the stream's memory moves on: a state that is not finite changes nothing.
+  const bool enriching = onActive && enricher_ && enricher_->enricher;
+  bool sameState = false;
+  if (enriching) sameState = loadState(positions);
+  else mesh::validateMeshState(positions, positions.cols());
   const double dt = hasLastStamp_ ? stampSeconds - lastStamp_ : 0.0;
   lastStamp_ = stampSeconds;
   hasLastStamp_ = true;
 
   // Tools in contact, then the sites released tools left deformed; a fading filter needs states too.
   std::vector<Contact> contacts;
-  if (onActive && enricher_ && enricher_->enricher) {
+  if (enriching) {
     std::vector<Contact> tools;
     for (const ToolContact& tool : touching) {
       Contact contact;
@@ -90,7 +116,7 @@ const FrameResult& EnrichmentSession::enrich(const Eigen::Matrix3Xf& positions, 
     }
     contacts = continuity_.contactsFor(tools);
   }
-  if (contacts.empty() && !(onActive && enricher_ && enricher_->enricher && temporalFilter_.fading())) {
+  if (contacts.empty() && !(enriching && temporalFilter_.fading())) {
     result_ = FrameResult();
     result_.restPending = onPending;
     if (!touching.empty())
@@ -99,7 +125,7 @@ const FrameResult& EnrichmentSession::enrich(const Eigen::Matrix3Xf& positions, 
     memoValid_ = false;
     return result_;
   }
-  if (unchanged(positions, contacts)) {
+  if (sameState && unchanged(contacts)) {
     result_.kind = FrameResult::Kind::Reused;
     ++stats_.statesReused;
     return result_;
@@ -114,7 +140,6 @@ const FrameResult& EnrichmentSession::enrich(const Eigen::Matrix3Xf& positions, 
     return result_;
   }
   memoValid_ = true;
-  memoInput_ = positions;
   memoContacts_ = std::move(contacts);
   memoConfig_ = configVersion_;
   memoRest_ = active_->version;

@@ -64,27 +64,32 @@ const BasisTable& basisTable() {
 }
 }  // namespace
 
-void evaluateBasis(const Eigen::Vector3d& r, int firstOrder, int lastOrder, double* out) {
+void evaluateBasis(const Eigen::Matrix3Xd& r, int firstOrder, int lastOrder, Eigen::MatrixXd& out) {
   checkRange(firstOrder, lastOrder);
   const BasisTable& table = basisTable();
-  // Univariate tables He_k(r_i), k <= lastOrder, then products per multi-index.
-  double he[3][kMaxHermiteOrder + 1];
+  const Eigen::Index count = r.cols();
+  // Univariate tables He_k(r_i) of every sample, k <= lastOrder (a column per k), then a product of three
+  // columns per multi-index: each step runs over all samples at once.
+  Eigen::ArrayXXd he[3];
   for (int axis = 0; axis < 3; ++axis) {
-    he[axis][0] = 1.0;
-    if (lastOrder >= 1) he[axis][1] = r[axis];
-    for (int k = 1; k < lastOrder; ++k) he[axis][k + 1] = r[axis] * he[axis][k] - k * he[axis][k - 1];
+    Eigen::ArrayXXd& h = he[axis];
+    h.resize(count, lastOrder + 1);
+    h.col(0).setOnes();
+    if (lastOrder >= 1) h.col(1) = r.row(axis).transpose().array();
+    for (int k = 1; k < lastOrder; ++k) h.col(k + 1) = h.col(1) * h.col(k) - k * h.col(k - 1);
   }
   const int begin = orderOffset(firstOrder), end = orderOffset(lastOrder + 1);
+  out.resize(count, end - begin);
   for (int c = begin; c < end; ++c) {
     const int* e = table.exponent[c];
-    *out++ = table.scale[c] * he[0][e[0]] * he[1][e[1]] * he[2][e[2]];
+    out.col(c - begin) = table.scale[c] * he[0].col(e[0]) * he[1].col(e[1]) * he[2].col(e[2]);
   }
 }
 
 Eigen::VectorXd evaluateBasis(const Eigen::Vector3d& r, int firstOrder, int lastOrder) {
-  Eigen::VectorXd values(basisSize(firstOrder, lastOrder));
-  evaluateBasis(r, firstOrder, lastOrder, values.data());
-  return values;
+  Eigen::MatrixXd values;
+  evaluateBasis(Eigen::Matrix3Xd(r), firstOrder, lastOrder, values);
+  return values.row(0).transpose();
 }
 
 }  // namespace deformation_enrichment::hermite

@@ -46,10 +46,15 @@ Moments weightedMoments(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& y, co
   m.W = W;
   m.xBar = x * wn / W;
   m.yBar = y * wn / W;
-  const Eigen::Matrix3Xd q = x.colwise() - m.xBar;
-  const Eigen::Matrix3Xd p = y.colwise() - m.yBar;
-  m.Apq = p * wn.asDiagonal() * q.transpose();
-  m.Aqq = q * wn.asDiagonal() * q.transpose();
+  // Sums of 3 x 3 outer products: fixed-size work per sample, no 3 x n temporaries or matrix-product packing.
+  m.Apq.setZero();
+  m.Aqq.setZero();
+  for (Eigen::Index k = 0; k < x.cols(); ++k) {
+    const Eigen::Vector3d q = x.col(k) - m.xBar;
+    const Eigen::Vector3d wq = wn[k] * q;
+    m.Apq.noalias() += (y.col(k) - m.yBar) * wq.transpose();
+    m.Aqq.noalias() += q * wq.transpose();
+  }
   return m;
 }
 

@@ -129,8 +129,11 @@ public:
 
   /// Enrichment of the current state for the contacts. No contact: empty result, nothing evaluated.
   /// Vertices outside every stamp radius are not listed. Needs examples (else InvalidInputError).
-  /// Reuses internal scratch: one enricher must not be used from two threads at once.
-  void enrich(const Eigen::Matrix3Xd& current, const std::vector<Contact>& contacts, EnrichmentResult& out);
+  /// Reuses internal scratch: one enricher must not be used from two threads at once. `check` = Skip for a
+  /// caller that has already checked the state's size and finiteness (a pass over every vertex saved).
+  enum class StateCheck { Full, Skip };
+  void enrich(const Eigen::Matrix3Xd& current, const std::vector<Contact>& contacts, EnrichmentResult& out,
+              StateCheck check = StateCheck::Full);
 
   /// s~ = s + e (eq. 1) in place; untouched vertices keep their bits.
   void apply(const EnrichmentResult& result, Eigen::Matrix3Xd& state) const { mapper_.apply(result.enrichment, state); }
@@ -148,7 +151,7 @@ private:
   void blendContact(const Contact& contact, ContactOutcome& outcome, ContactStamp& stamp);
   /// The deformation descriptor's window at rest point p (cached, see recentWindows_).
   const descriptors::Window& surfaceWindow(const Eigen::Vector3d& p) const;
-  void checkState(const Eigen::Matrix3Xd& current) const;
+  void checkState(const Eigen::Matrix3Xd& current, StateCheck check = StateCheck::Full) const;
 
   ContactEnricherOptions options_;
   mesh::TriangleMesh rest_;

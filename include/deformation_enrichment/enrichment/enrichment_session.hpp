@@ -158,7 +158,11 @@ private:
   /// all three; throws InvalidInputError, leaving everything as it was.
   void installConfiguration(std::shared_ptr<const examples::ExampleSet> set, const EnrichmentKnobs& knobs);
   void resetStream();
-  bool unchanged(const Eigen::Matrix3Xf& positions, const std::vector<Contact>& contacts) const;
+  /// Whether the contacts, configuration and rest surface are those the memo's state was enriched with.
+  bool unchanged(const std::vector<Contact>& contacts) const;
+  /// Checks `positions` (InvalidInputError naming a non-finite point; nothing changes then) and converts
+  /// them into current_; returns whether they equal the memo's state.
+  bool loadState(const Eigen::Matrix3Xf& positions);
   void enrichContacts(const Eigen::Matrix3Xf& positions, const std::vector<Contact>& contacts, double dt);
   void log(SessionLogLevel level, const std::string& text) const;
 
@@ -180,7 +184,8 @@ private:
   TemporalFilter temporalFilter_;
   std::map<std::string, int> toolNumbers_;
   EnrichmentResult scratch_;
-  Eigen::Matrix3Xd current_;  // the state in double precision (the enricher's)
+  Eigen::Matrix3Xd current_;  // the state in double precision (the enricher's); the memo's input
+  Eigen::Matrix3Xd loading_;  // the next state while it is checked (swapped with current_)
   FrameResult result_;
   Eigen::Matrix3Xf enriched_;
   double lastStamp_ = 0.0;
@@ -188,7 +193,6 @@ private:
   // Unchanged-input memo: what the last state was computed from, valid only while that state was enriched
   // (then result_ and enriched_ still hold its outcome).
   bool memoValid_ = false;
-  Eigen::Matrix3Xf memoInput_;
   std::vector<Contact> memoContacts_;
   std::uint64_t memoConfig_ = 0, memoRest_ = 0;
 

@@ -18,12 +18,13 @@ constexpr int orderOffset(int order) { return order * (order + 1) * (order + 2) 
 /// Total number of components of orders firstOrder..lastOrder.
 int basisSize(int firstOrder, int lastOrder);
 
-/// H_alpha(r) for all distinct components of orders firstOrder..lastOrder (eq. 3, scaled by 1/sqrt(n!)),
-/// concatenated order by order in multiIndices() order. `out` must hold basisSize(first, last) values.
-/// Throws InvalidInputError for orders outside [0, kMaxHermiteOrder] or first > last.
-void evaluateBasis(const Eigen::Vector3d& r, int firstOrder, int lastOrder, double* out);
+/// H_alpha(r_m) of every sample m (a column of r) for all distinct components of orders firstOrder..lastOrder
+/// (eq. 3, scaled by 1/sqrt(n!)): row m of `out` (r.cols() x basisSize(first, last)) holds sample m's values
+/// order by order in multiIndices() order. Throws InvalidInputError for orders outside
+/// [0, kMaxHermiteOrder] or first > last.
+void evaluateBasis(const Eigen::Matrix3Xd& r, int firstOrder, int lastOrder, Eigen::MatrixXd& out);
 
-/// Convenience overload returning a vector.
+/// The values at one point.
 Eigen::VectorXd evaluateBasis(const Eigen::Vector3d& r, int firstOrder, int lastOrder);
 
 }  // namespace deformation_enrichment::hermite

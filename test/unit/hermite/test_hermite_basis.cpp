@@ -104,16 +104,22 @@ TEST(HermiteBasis, OrthonormalUnderGaussianWindow) {
   const Grid grid = makeGrid(9.0, 73);
   const int size = basisSize(0, kMaxHermiteOrder);
   Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(size, size);
-  Eigen::VectorXd basis(size);
   const double cell = std::pow(grid.spacing, 3);
-  for (double x : grid.axis)
+  const Eigen::Index planeSize = static_cast<Eigen::Index>(grid.axis.size() * grid.axis.size());
+  Eigen::Matrix3Xd plane(3, planeSize);
+  Eigen::VectorXd weight(planeSize);
+  Eigen::MatrixXd basis;
+  for (double x : grid.axis) {  // one plane of grid points per block evaluation
+    Eigen::Index k = 0;
     for (double y : grid.axis)
       for (double z : grid.axis) {
-        const Eigen::Vector3d r(x, y, z);
-        evaluateBasis(r, 0, kMaxHermiteOrder, basis.data());
-        gram.selfadjointView<Eigen::Lower>().rankUpdate(basis, gaussianWindow(r.squaredNorm()) * cell);
+        plane.col(k) = Eigen::Vector3d(x, y, z);
+        weight(k) = gaussianWindow(plane.col(k).squaredNorm()) * cell;
+        ++k;
       }
-  gram = gram.selfadjointView<Eigen::Lower>();
+    evaluateBasis(plane, 0, kMaxHermiteOrder, basis);
+    gram.noalias() += basis.transpose() * weight.asDiagonal() * basis;
+  }
   MomentList layout(0, kMaxHermiteOrder);
   const Eigen::VectorXd mult = layout.multiplicities();
   const Eigen::MatrixXd normalised = mult.asDiagonal() * gram;
