@@ -1,5 +1,6 @@
 #include "deformation_enrichment/descriptors/moment_window.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -50,28 +51,27 @@ Window gatherWindow(const PointSampling& sampling, const Eigen::Vector3d& p, con
   return window;
 }
 
-void cacheBasis(Window& window, int firstOrder, int lastOrder) {
-  hermite::evaluateBasis(window.r, firstOrder, lastOrder, window.basis);
-  window.basisFirstOrder = firstOrder;
-  window.basisLastOrder = lastOrder;
-}
-
 namespace {
 
-// The window's cached basis when it has these orders, else the basis evaluated into `scratch`.
-const Eigen::MatrixXd& basisOf(const Window& window, int firstOrder, int lastOrder, Eigen::MatrixXd& scratch) {
-  if (window.basisFirstOrder == firstOrder && window.basisLastOrder == lastOrder && window.basis.rows() == window.r.cols())
-    return window.basis;
-  hermite::evaluateBasis(window.r, firstOrder, lastOrder, scratch);
-  return scratch;
+// sums(c, channel) = sum_m H_c(r_m) weighted(m, channel): the basis of a block of samples is evaluated and
+// consumed at once, so it stays in the cache (a window holds thousands of samples).
+void accumulateMoments(const Window& window, const Eigen::MatrixXd& weighted, int firstOrder, int lastOrder,
+                       Eigen::Map<Eigen::MatrixXd> sums) {
+  constexpr Eigen::Index kBlock = 256;
+  Eigen::MatrixXd basis;
+  for (Eigen::Index start = 0; start < window.r.cols(); start += kBlock) {
+    const Eigen::Index length = std::min(kBlock, window.r.cols() - start);
+    hermite::evaluateBasis(window.r.middleCols(start, length), firstOrder, lastOrder, basis);
+    sums.noalias() += basis.transpose() * weighted.middleRows(start, length);
+  }
 }
 
 }  // namespace
 
 hermite::MomentList densityMoments(const Window& window, int firstOrder, int lastOrder) {
   hermite::MomentList moments(firstOrder, lastOrder, 1);
-  Eigen::MatrixXd scratch;
-  moments.values().noalias() = basisOf(window, firstOrder, lastOrder, scratch).transpose() * window.weight;  // eq. (8), rho = 1
+  accumulateMoments(window, window.weight, firstOrder, lastOrder,
+                    Eigen::Map<Eigen::MatrixXd>(moments.values().data(), moments.channelSize(), 1));  // eq. (8), rho = 1
   return moments;
 }
 
@@ -83,10 +83,9 @@ hermite::MomentList fieldMoments(const Window& window, const Eigen::Matrix3Xd& f
   if (!field.allFinite()) throw InvalidInputError("fieldMoments: field is not finite");
   hermite::MomentList moments(firstOrder, lastOrder, 3);
   // eq. (11): u_bar (x) H_n, weighted; channel-major values are the columns of a channelSize x 3 matrix.
-  const Eigen::MatrixX3d weighted = (field.array().rowwise() * window.weight.transpose().array()).transpose();
-  Eigen::Map<Eigen::MatrixXd> sums(moments.values().data(), moments.channelSize(), 3);
-  Eigen::MatrixXd scratch;
-  sums.noalias() = basisOf(window, firstOrder, lastOrder, scratch).transpose() * weighted;
+  const Eigen::MatrixXd weighted = (field.array().rowwise() * window.weight.transpose().array()).transpose();
+  accumulateMoments(window, weighted, firstOrder, lastOrder,
+                    Eigen::Map<Eigen::MatrixXd>(moments.values().data(), moments.channelSize(), 3));
   return moments;
 }
 

@@ -132,7 +132,6 @@ const descriptors::Window& ContactEnricher::surfaceWindow(const Eigen::Vector3d&
   auto& slot = recentWindows_[nextWindow_];
   nextWindow_ = (nextWindow_ + 1) % recentWindows_.size();
   slot = descriptors::gatherWindow(*surfaceSampling_, p, options_.descriptors.window);
-  descriptors::cacheBasis(*slot, 1, options_.descriptors.deformationOrder);  // mu's orders (eq. 11)
   return *slot;
 }
 

@@ -1,6 +1,7 @@
 // The frame path of EnrichmentSession: a state in, its enriched positions out (docs/design.md §6). The
 // configuration side (rest surfaces, example sets, knobs, the rebuild worker) is session_configuration.cpp.
 #include <cmath>
+#include <cstring>
 
 #include "deformation_enrichment/enrichment/enrichment_session.hpp"
 #include "deformation_enrichment/error.hpp"
@@ -30,27 +31,18 @@ bool EnrichmentSession::unchanged(const std::vector<Contact>& contacts) const {
   return contacts.size() == memoContacts_.size() && std::equal(contacts.begin(), contacts.end(), memoContacts_.begin(), sameContact);
 }
 
-bool EnrichmentSession::loadState(const Eigen::Matrix3Xf& positions) {
-  // One pass instead of three (check, compare with the last input, convert): a float widened to double is
-  // exact, so the last state's double copy is also the memo's input. It goes into a second buffer, swapped
-  // in only when finite, so a refused state leaves the memo's state in place.
-  const bool comparable = memoValid_ && current_.cols() == positions.cols();
-  loading_.resize(3, positions.cols());
-  const float* in = positions.data();
-  const double* last = current_.data();
-  double* out = loading_.data();
-  const Eigen::Index count = positions.size();
-  bool same = comparable;
-  double poison = 0.0;  // x * 0 is NaN exactly for non-finite x
-  for (Eigen::Index i = 0; i < count; ++i) {
-    const double x = in[i];
-    same &= !comparable || last[i] == x;
-    poison += x * 0.0;
-    out[i] = x;
-  }
-  if (!std::isfinite(poison)) mesh::validateMeshState(positions, positions.cols());  // throws, naming the point
+void EnrichmentSession::loadState(const Eigen::Matrix3Xf& positions) {
+  // Widened (exactly) into a second buffer, swapped in only when finite: a refused state leaves the last
+  // one, the memo's input, in place. Both passes are Eigen's vectorised ones.
+  if (!positions.allFinite()) mesh::validateMeshState(positions, positions.cols());  // throws, naming the point
+  loading_ = positions.cast<double>();
   current_.swap(loading_);
-  return same;
+}
+
+bool EnrichmentSession::sameAsLastState() const {
+  // After loadState, loading_ holds the state before: bit-equal doubles are bit-equal floats.
+  return loading_.cols() == current_.cols() &&
+         std::memcmp(loading_.data(), current_.data(), sizeof(double) * static_cast<std::size_t>(current_.size())) == 0;
 }
 
 void EnrichmentSession::enrichContacts(const Eigen::Matrix3Xf& positions, const std::vector<Contact>& contacts, double dt) {
@@ -96,8 +88,7 @@ const FrameResult& EnrichmentSession::enrich(const Eigen::Matrix3Xf& positions, 
   }
   // Checked before the stream's memory moves on: a state that is not finite changes nothing.
   const bool enriching = onActive && enricher_ && enricher_->enricher;
-  bool sameState = false;
-  if (enriching) sameState = loadState(positions);
+  if (enriching) loadState(positions);
   else mesh::validateMeshState(positions, positions.cols());
   const double dt = hasLastStamp_ ? stampSeconds - lastStamp_ : 0.0;
   lastStamp_ = stampSeconds;
@@ -125,7 +116,7 @@ const FrameResult& EnrichmentSession::enrich(const Eigen::Matrix3Xf& positions, 
     memoValid_ = false;
     return result_;
   }
-  if (sameState && unchanged(contacts)) {
+  if (unchanged(contacts) && sameAsLastState()) {
     result_.kind = FrameResult::Kind::Reused;
     ++stats_.statesReused;
     return result_;

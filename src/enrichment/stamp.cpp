@@ -80,28 +80,6 @@ cv::Mat rasteriseStamp(const mesh::TriangleMesh& restPatch, const Eigen::Matrix3
   return stamp;
 }
 
-Eigen::Vector3d sampleStamp(const cv::Mat& stamp, double radius, double phi, double varphi) {
-  // Continuous node coordinates; the square [-R, R]^2 maps onto [0, cols-1] x [0, rows-1].
-  double x = (phi + radius) * (stamp.cols - 1) / (2.0 * radius);
-  double y = (varphi + radius) * (stamp.rows - 1) / (2.0 * radius);
-  // A point on the far edge (phi = R) can land a few ulps past the last node: it is on the edge, not out.
-  if (x > stamp.cols - 1 && x <= (stamp.cols - 1) * (1.0 + 1e-12)) x = stamp.cols - 1;
-  if (y > stamp.rows - 1 && y <= (stamp.rows - 1) * (1.0 + 1e-12)) y = stamp.rows - 1;
-  if (!(x >= 0.0 && y >= 0.0 && x <= stamp.cols - 1 && y <= stamp.rows - 1)) return Eigen::Vector3d::Zero();
-  const int k = std::min(static_cast<int>(x), stamp.cols - 2);
-  const int j = std::min(static_cast<int>(y), stamp.rows - 2);
-  const double fx = x - k, fy = y - j;
-  const cv::Vec3f* row0 = stamp.ptr<cv::Vec3f>(j);
-  const cv::Vec3f* row1 = stamp.ptr<cv::Vec3f>(j + 1);
-  Eigen::Vector3d out;
-  for (int c = 0; c < 3; ++c) {
-    const double top = (1.0 - fx) * row0[k][c] + fx * row0[k + 1][c];
-    const double bottom = (1.0 - fx) * row1[k][c] + fx * row1[k + 1][c];
-    out[c] = (1.0 - fy) * top + fy * bottom;
-  }
-  return out;
-}
-
 void lookUpStamp(const cv::Mat& stamp, double radius, const Eigen::Matrix2Xd& coordinates, Eigen::Matrix3Xd& out) {
   checkStamp(stamp, radius, "lookUpStamp");
   if (!coordinates.allFinite()) throw InvalidInputError("lookUpStamp: coordinates are not finite");

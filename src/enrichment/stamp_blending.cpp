@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <nanoflann.hpp>
 #include <string>
 
@@ -45,40 +46,7 @@ cv::Mat blendExampleStamps(const std::vector<examples::Example>& examples, const
   return blendStamps(stamps, weights);
 }
 
-namespace {
-
 using Matches = std::vector<std::pair<Eigen::Index, double>>;
-
-// Keeps, in their order, the matches reached from the one nearest the centre (ties: the lower vertex id)
-// over edges with both ends in the ball. `slot` has one entry per vertex, -1 on entry and on exit; while
-// walking it holds k for the unreached match k and -2 - k once reached. Work and touched memory are the
-// ball's vertices and their one-rings, never O(n).
-void keepReachedThroughSurface(Matches& matches, const mesh::VertexAdjacency& surface, std::vector<int>& slot,
-                               std::vector<int>& queue) {
-  if (matches.empty()) return;
-  std::size_t seed = 0;
-  for (std::size_t k = 1; k < matches.size(); ++k)
-    if (matches[k].second < matches[seed].second || (matches[k].second == matches[seed].second && matches[k].first < matches[seed].first))
-      seed = k;
-  for (std::size_t k = 0; k < matches.size(); ++k) slot[static_cast<std::size_t>(matches[k].first)] = static_cast<int>(k);
-  queue.assign(1, static_cast<int>(matches[seed].first));
-  slot[static_cast<std::size_t>(queue[0])] = -2 - static_cast<int>(seed);
-  for (std::size_t head = 0; head < queue.size(); ++head)
-    for (const int* u = surface.begin(queue[head]); u != surface.end(queue[head]); ++u)
-      if (int& s = slot[static_cast<std::size_t>(*u)]; s >= 0) {
-        s = -2 - s;
-        queue.push_back(*u);
-      }
-  std::size_t kept = 0;
-  for (std::size_t k = 0; k < matches.size(); ++k) {
-    int& s = slot[static_cast<std::size_t>(matches[k].first)];
-    if (s <= -2) matches[kept++] = matches[k];
-    s = -1;
-  }
-  matches.resize(kept);
-}
-
-}  // namespace
 
 // nanoflann over the rest vertices (column-major 3 x n). The adaptor keeps a reference to its matrix, so the
 // tree owns a copy on the heap: moving the StampMapper (and a ContactEnricher with it) leaves it valid.
@@ -86,21 +54,47 @@ struct StampMapper::KdTree {
   using Tree = nanoflann::KDTreeEigenMatrixAdaptor<Eigen::Matrix3Xd, 3, nanoflann::metric_L2_Simple, false>;
   explicit KdTree(const Eigen::Matrix3Xd& rest) : points(rest), tree(3, std::cref(points), 16) {}
 
-  /// Rest vertices within the ball, restricted to those reached through `surface` unless it is empty. A
-  /// contact stays on the same rest point for many frames (the tool holds the tissue it touches), so the
-  /// last few (filtered) balls are kept and reused on an exact match.
+  /// Rest vertices within the ball (distance below the radius), restricted to those reached through
+  /// `surface` unless it is empty. A contact stays on the same rest point for many frames (the tool holds
+  /// the tissue it touches), so the last few balls are kept and reused on an exact match.
   const Matches& ball(const Eigen::Vector3d& centre, double squaredRadius, const mesh::VertexAdjacency& surface) {
     for (const Ball& b : recent)
       if (b.valid && b.centre == centre && b.squaredRadius == squaredRadius) return b.matches;
     Ball& b = recent[next];
     next = (next + 1) % recent.size();
     b.matches.clear();
-    tree.index->radiusSearch(centre.data(), squaredRadius, b.matches, nanoflann::SearchParams(32, 0.0f, false));
-    if (surface.numVertices() != 0) keepReachedThroughSurface(b.matches, surface, slot, queue);
+    if (surface.numVertices() != 0) walk(centre, squaredRadius, surface, b.matches);
+    else tree.index->radiusSearch(centre.data(), squaredRadius, b.matches, nanoflann::SearchParams(32, 0.0f, false));
     b.centre = centre;
     b.squaredRadius = squaredRadius;
     b.valid = true;
     return b.matches;
+  }
+
+  /// The ball's vertices connected to the vertex nearest the centre over edges with both ends in the ball:
+  /// a breadth-first walk from it, so work and touched memory are the ball's vertices and their one-rings,
+  /// never O(n) (a radius search and a filter would visit the ball twice).
+  void walk(const Eigen::Vector3d& centre, double squaredRadius, const mesh::VertexAdjacency& surface, Matches& matches) {
+    Eigen::Index seed = 0;
+    double seedDistance = 0.0;
+    tree.index->knnSearch(centre.data(), 1, &seed, &seedDistance);
+    if (!(seedDistance < squaredRadius)) return;
+    if (++epoch == 0) {  // the marks wrapped around: clear them once every 2^32 walks
+      std::fill(visited.begin(), visited.end(), 0u);
+      epoch = 1;
+    }
+    visited[static_cast<std::size_t>(seed)] = epoch;
+    matches.emplace_back(seed, seedDistance);
+    for (std::size_t head = 0; head < matches.size(); ++head) {
+      const int vertex = static_cast<int>(matches[head].first);
+      for (const int* u = surface.begin(vertex); u != surface.end(vertex); ++u) {
+        std::uint32_t& mark = visited[static_cast<std::size_t>(*u)];
+        if (mark == epoch) continue;
+        mark = epoch;  // inside or outside, each vertex is measured once
+        const double distance = (points.col(*u) - centre).squaredNorm();
+        if (distance < squaredRadius) matches.emplace_back(*u, distance);
+      }
+    }
   }
 
   struct Ball {
@@ -113,7 +107,8 @@ struct StampMapper::KdTree {
   Tree tree;
   std::array<Ball, 4> recent;  // a few tools at once
   std::size_t next = 0;
-  std::vector<int> slot, queue;  // scratch of keepReachedThroughSurface (slot: one per vertex, given triangles)
+  std::vector<std::uint32_t> visited;  // walk marks: == epoch once measured in the current walk
+  std::uint32_t epoch = 0;
 };
 
 StampMapper::StampMapper(Eigen::Matrix3Xd restVertices, double rimBand, Eigen::Matrix3Xd restNormals,
@@ -127,7 +122,7 @@ StampMapper::StampMapper(Eigen::Matrix3Xd restVertices, double rimBand, Eigen::M
   if (!(rimBand >= 0.0 && rimBand < 1.0)) throw InvalidInputError("StampMapper: rim band must lie in [0, 1)");
   if (restTriangles.cols() != 0) adjacency_ = mesh::vertexAdjacency(restTriangles, rest_.cols());
   index_ = std::make_unique<KdTree>(rest_);
-  if (adjacency_.numVertices() != 0) index_->slot.assign(static_cast<std::size_t>(rest_.cols()), -1);
+  if (adjacency_.numVertices() != 0) index_->visited.assign(static_cast<std::size_t>(rest_.cols()), 0u);
   sum_ = Eigen::Matrix3Xd::Zero(3, rest_.cols());
   weightSum_ = Eigen::VectorXd::Zero(rest_.cols());
 }
@@ -135,13 +130,6 @@ StampMapper::StampMapper(Eigen::Matrix3Xd restVertices, double rimBand, Eigen::M
 StampMapper::~StampMapper() = default;
 StampMapper::StampMapper(StampMapper&&) noexcept = default;
 StampMapper& StampMapper::operator=(StampMapper&&) noexcept = default;
-
-double StampMapper::rimWeight(double r) const {
-  if (r > 1.0) return 0.0;
-  if (rimBand_ == 0.0) return 1.0;
-  const double s = std::clamp((1.0 - r) / rimBand_, 0.0, 1.0);
-  return s * s * (3.0 - 2.0 * s);  // smoothstep: C1 at both ends of the band
-}
 
 void StampMapper::map(const std::vector<ContactStamp>& contacts, SurfaceEnrichment& out) {
   for (std::size_t c = 0; c < contacts.size(); ++c) {
@@ -158,11 +146,13 @@ void StampMapper::map(const std::vector<ContactStamp>& contacts, SurfaceEnrichme
   touched_.clear();
   for (const ContactStamp& contact : contacts) {
     const Eigen::Matrix3d RB = contact.rotation * contact.frame;
+    const double inverseRadius = 1.0 / contact.radius;
+    const Eigen::Matrix3Xd& rest = index_->points;  // = rest_, and in the cache after the ball's walk
     for (const auto& [vertex, squaredDistance] : index_->ball(contact.contact, contact.radius * contact.radius, adjacency_)) {
-      const double a = rimWeight(std::sqrt(squaredDistance) / contact.radius);
+      const double a = rimWeight(std::sqrt(squaredDistance) * inverseRadius);
       if (a == 0.0) continue;
       if (normals_.cols() != 0 && normals_.col(vertex).dot(contact.frame.col(2)) < 0.0) continue;  // far side
-      const Eigen::Vector3d x = rest_.col(vertex) - contact.contact;
+      const Eigen::Vector3d x = rest.col(vertex) - contact.contact;
       const double phi = contact.frame.col(0).dot(x), varphi = contact.frame.col(1).dot(x);
       if (weightSum_[vertex] == 0.0) touched_.push_back(static_cast<int>(vertex));
       // e_c(x) = R B Psi(phi, varphi) (eq. 1), weighted by the rim weight a_c(x).
@@ -188,7 +178,8 @@ void StampMapper::map(const std::vector<ContactStamp>& contacts, SurfaceEnrichme
   out.displacements.resize(3, static_cast<Eigen::Index>(touched_.size()));
   for (std::size_t k = 0; k < touched_.size(); ++k) {
     const int v = touched_[k];
-    out.displacements.col(static_cast<Eigen::Index>(k)) = sum_.col(v) / std::max(1.0, weightSum_[v]);
+    const double weight = weightSum_[v];  // at most 1 unless stamps overlap
+    out.displacements.col(static_cast<Eigen::Index>(k)) = weight > 1.0 ? Eigen::Vector3d(sum_.col(v) / weight) : Eigen::Vector3d(sum_.col(v));
     sum_.col(v).setZero();  // reset scratch for the next call, touching only what was used
     weightSum_[v] = 0.0;
   }

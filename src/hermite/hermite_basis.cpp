@@ -64,7 +64,7 @@ const BasisTable& basisTable() {
 }
 }  // namespace
 
-void evaluateBasis(const Eigen::Matrix3Xd& r, int firstOrder, int lastOrder, Eigen::MatrixXd& out) {
+void evaluateBasis(const Eigen::Ref<const Eigen::Matrix3Xd>& r, int firstOrder, int lastOrder, Eigen::MatrixXd& out) {
   checkRange(firstOrder, lastOrder);
   const BasisTable& table = basisTable();
   const Eigen::Index count = r.cols();

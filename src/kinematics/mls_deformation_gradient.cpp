@@ -47,14 +47,17 @@ Moments weightedMoments(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& y, co
   m.xBar = x * wn / W;
   m.yBar = y * wn / W;
   // Sums of 3 x 3 outer products: fixed-size work per sample, no 3 x n temporaries or matrix-product packing.
-  m.Apq.setZero();
-  m.Aqq.setZero();
+  // Local accumulators (registers, not the returned struct).
+  Eigen::Matrix3d apq = Eigen::Matrix3d::Zero(), aqq = Eigen::Matrix3d::Zero();
+  const Eigen::Vector3d xBar = m.xBar, yBar = m.yBar;
   for (Eigen::Index k = 0; k < x.cols(); ++k) {
-    const Eigen::Vector3d q = x.col(k) - m.xBar;
+    const Eigen::Vector3d q = x.col(k) - xBar;
     const Eigen::Vector3d wq = wn[k] * q;
-    m.Apq.noalias() += (y.col(k) - m.yBar) * wq.transpose();
-    m.Aqq.noalias() += q * wq.transpose();
+    apq.noalias() += (y.col(k) - yBar) * wq.transpose();
+    aqq.noalias() += q * wq.transpose();
   }
+  m.Apq = apq;
+  m.Aqq = aqq;
   return m;
 }
 

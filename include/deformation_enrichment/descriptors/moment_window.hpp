@@ -36,19 +36,12 @@ struct Window {
   Eigen::Matrix3Xd r;
   Eigen::VectorXd omega;
   Eigen::VectorXd weight;  ///< q_m omega_m
-  /// H_n(r_m) of orders basisFirstOrder..basisLastOrder, a row per sample (cacheBasis; none by default).
-  Eigen::MatrixXd basis;
-  int basisFirstOrder = 0, basisLastOrder = -1;
   bool empty() const { return indices.empty(); }
 };
 
 /// Collects the window at p. Throws InvalidInputError for non-finite p, h <= 0 or cutoff <= 0. A window
 /// with no sample (contact far from the mesh) is returned empty, not as an error.
 Window gatherWindow(const PointSampling& sampling, const Eigen::Vector3d& p, const WindowOptions& options);
-
-/// Keeps the window's Hermite basis of orders firstOrder..lastOrder, so that the moments of every field
-/// sampled on it (a contact held over many states) skip evaluating it. Throws InvalidInputError for bad orders.
-void cacheBasis(Window& window, int firstOrder, int lastOrder);
 
 /// Moments of the indicator (density rho = 1 on the samples) of orders firstOrder..lastOrder (eq. 7/8).
 /// An empty window gives zero moments (no material near p).

@@ -161,8 +161,10 @@ private:
   /// Whether the contacts, configuration and rest surface are those the memo's state was enriched with.
   bool unchanged(const std::vector<Contact>& contacts) const;
   /// Checks `positions` (InvalidInputError naming a non-finite point; nothing changes then) and converts
-  /// them into current_; returns whether they equal the memo's state.
-  bool loadState(const Eigen::Matrix3Xf& positions);
+  /// them into current_, the state before going to loading_.
+  void loadState(const Eigen::Matrix3Xf& positions);
+  /// Whether the state loadState took equals the one before it, bit for bit.
+  bool sameAsLastState() const;
   void enrichContacts(const Eigen::Matrix3Xf& positions, const std::vector<Contact>& contacts, double dt);
   void log(SessionLogLevel level, const std::string& text) const;
 
@@ -185,7 +187,7 @@ private:
   std::map<std::string, int> toolNumbers_;
   EnrichmentResult scratch_;
   Eigen::Matrix3Xd current_;  // the state in double precision (the enricher's); the memo's input
-  Eigen::Matrix3Xd loading_;  // the next state while it is checked (swapped with current_)
+  Eigen::Matrix3Xd loading_;  // the next state while it is checked, then the state before (swapped with current_)
   FrameResult result_;
   Eigen::Matrix3Xf enriched_;
   double lastStamp_ = 0.0;

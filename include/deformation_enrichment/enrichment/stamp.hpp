@@ -5,6 +5,7 @@
 // so the grid covers the square exactly and bilinear look-up reproduces affine fields everywhere in it.
 // Values are displacements (fine - coarse) in frame coordinates (components along b_x, b_y, b_z).
 #include <Eigen/Core>
+#include <algorithm>
 #include <opencv2/core.hpp>
 
 #include "deformation_enrichment/mesh/triangle_mesh.hpp"
@@ -37,8 +38,29 @@ cv::Mat rasteriseFacingPatch(const mesh::TriangleMesh& surface, const Eigen::Mat
 /// wrong stamp type or size, radius <= 0, or NaN coordinates.
 void lookUpStamp(const cv::Mat& stamp, double radius, const Eigen::Matrix2Xd& coordinates, Eigen::Matrix3Xd& out);
 
-/// Single-point look-up (same conventions as lookUpStamp, no input checks: the caller validated).
-Eigen::Vector3d sampleStamp(const cv::Mat& stamp, double radius, double phi, double varphi);
+/// Single-point look-up (same conventions as lookUpStamp, no input checks: the caller validated). Inline:
+/// the mapping calls it for every vertex of a stamp.
+inline Eigen::Vector3d sampleStamp(const cv::Mat& stamp, double radius, double phi, double varphi) {
+  // Continuous node coordinates; the square [-R, R]^2 maps onto [0, cols-1] x [0, rows-1].
+  double x = (phi + radius) * (stamp.cols - 1) / (2.0 * radius);
+  double y = (varphi + radius) * (stamp.rows - 1) / (2.0 * radius);
+  // A point on the far edge (phi = R) can land a few ulps past the last node: it is on the edge, not out.
+  if (x > stamp.cols - 1 && x <= (stamp.cols - 1) * (1.0 + 1e-12)) x = stamp.cols - 1;
+  if (y > stamp.rows - 1 && y <= (stamp.rows - 1) * (1.0 + 1e-12)) y = stamp.rows - 1;
+  if (!(x >= 0.0 && y >= 0.0 && x <= stamp.cols - 1 && y <= stamp.rows - 1)) return Eigen::Vector3d::Zero();
+  const int k = std::min(static_cast<int>(x), stamp.cols - 2);
+  const int j = std::min(static_cast<int>(y), stamp.rows - 2);
+  const double fx = x - k, fy = y - j;
+  const cv::Vec3f* row0 = stamp.ptr<cv::Vec3f>(j);
+  const cv::Vec3f* row1 = stamp.ptr<cv::Vec3f>(j + 1);
+  Eigen::Vector3d out;
+  for (int c = 0; c < 3; ++c) {
+    const double top = (1.0 - fx) * row0[k][c] + fx * row0[k + 1][c];
+    const double bottom = (1.0 - fx) * row1[k][c] + fx * row1[k + 1][c];
+    out[c] = (1.0 - fy) * top + fy * bottom;
+  }
+  return out;
+}
 
 /// Throws InvalidInputError unless `stamp` is a CV_32FC3 grid of at least 2x2 nodes and radius > 0.
 void checkStamp(const cv::Mat& stamp, double radius, const char* what);

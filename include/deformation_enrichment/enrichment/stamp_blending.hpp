@@ -16,6 +16,7 @@
 // (edges with both ends in the ball), so it does not bleed across a narrow cut or through a thin wall; given
 // rest normals, back-facing vertices (n . b_z < 0) among those are not touched either.
 #include <Eigen/Core>
+#include <algorithm>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <vector>
@@ -69,7 +70,12 @@ public:
   const Eigen::Matrix3Xd& restVertices() const { return rest_; }
 
   /// Rim weight a(r) for r = distance / radius (1 inside 1 - band, smoothstep to 0 at r = 1).
-  double rimWeight(double relativeDistance) const;
+  double rimWeight(double relativeDistance) const {
+    if (relativeDistance > 1.0) return 0.0;
+    if (rimBand_ == 0.0) return 1.0;
+    const double s = std::clamp((1.0 - relativeDistance) / rimBand_, 0.0, 1.0);
+    return s * s * (3.0 - 2.0 * s);  // smoothstep: C1 at both ends of the band
+  }
 
   /// e for the given contacts (may be empty: nothing touched). Reuses internal scratch, so one mapper
   /// must not be used from two threads at once. Throws InvalidInputError for an invalid contact (NaN,

@@ -22,7 +22,7 @@ int basisSize(int firstOrder, int lastOrder);
 /// (eq. 3, scaled by 1/sqrt(n!)): row m of `out` (r.cols() x basisSize(first, last)) holds sample m's values
 /// order by order in multiIndices() order. Throws InvalidInputError for orders outside
 /// [0, kMaxHermiteOrder] or first > last.
-void evaluateBasis(const Eigen::Matrix3Xd& r, int firstOrder, int lastOrder, Eigen::MatrixXd& out);
+void evaluateBasis(const Eigen::Ref<const Eigen::Matrix3Xd>& r, int firstOrder, int lastOrder, Eigen::MatrixXd& out);
 
 /// The values at one point.
 Eigen::VectorXd evaluateBasis(const Eigen::Vector3d& r, int firstOrder, int lastOrder);

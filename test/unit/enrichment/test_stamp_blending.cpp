@@ -81,7 +81,7 @@ Eigen::Matrix3Xd wholeBallReference(const en::StampMapper& mapper, const Eigen::
       // No vertex near the sphere: the result must not hinge on round-off in the distance.
       EXPECT_GT(std::abs(d2 - c.radius * c.radius), 1e-9 * c.radius * c.radius) << v;
       if (!(d2 < c.radius * c.radius)) continue;
-      const double a = mapper.rimWeight(std::sqrt(d2) / c.radius);
+      const double a = mapper.rimWeight(std::sqrt(d2) * (1.0 / c.radius));  // rounded as the mapper rounds it
       if (a == 0.0 || (normals.cols() != 0 && normals.col(v).dot(c.frame.col(2)) < 0.0)) continue;
       const Eigen::Vector3d x = rest.col(v) - c.contact;
       sum.col(v) += a * (RB * en::sampleStamp(c.stamp, c.radius, c.frame.col(0).dot(x), c.frame.col(1).dot(x)));
