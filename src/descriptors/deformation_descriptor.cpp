@@ -24,24 +24,28 @@ DeformationDescriptor deformationDescriptor(const Window& window, const Eigen::M
                                             const Eigen::Vector3d* restNormal,
                                             const Eigen::Vector3d* deformedNormal,
                                             const kinematics::MlsOptions& mls) {
-  if (order < 1 || order > hermite::kMaxHermiteOrder)
-    throw InvalidInputError("deformation descriptor order " + std::to_string(order) + " outside [1, " +
-                            std::to_string(hermite::kMaxHermiteOrder) + "]");
   if (restPoints.cols() != deformedPoints.cols())
     throw InvalidInputError("deformation descriptor: " + std::to_string(deformedPoints.cols()) +
                             " deformed positions for " + std::to_string(restPoints.cols()) + " rest points");
+  for (const int index : window.indices)
+    if (index < 0 || index >= restPoints.cols())
+      throw InvalidInputError("deformation descriptor: window index out of range of the point set");
+  return windowDeformationDescriptor(window, restPoints(Eigen::all, window.indices), deformedPoints(Eigen::all, window.indices),
+                                     order, restNormal, deformedNormal, mls);
+}
+
+DeformationDescriptor windowDeformationDescriptor(const Window& window, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& y,
+                                                  int order, const Eigen::Vector3d* restNormal,
+                                                  const Eigen::Vector3d* deformedNormal, const kinematics::MlsOptions& mls) {
+  if (order < 1 || order > hermite::kMaxHermiteOrder)
+    throw InvalidInputError("deformation descriptor order " + std::to_string(order) + " outside [1, " +
+                            std::to_string(hermite::kMaxHermiteOrder) + "]");
   if (window.empty())
     throw InvalidInputError("deformation descriptor: no sample within the cut-off radius of the contact "
                             "(contact far from the mesh?)");
-  const Eigen::Index count = window.r.cols();
-  Eigen::Matrix3Xd x(3, count), y(3, count);
-  for (Eigen::Index k = 0; k < count; ++k) {
-    const int index = window.indices[k];
-    if (index < 0 || index >= restPoints.cols())
-      throw InvalidInputError("deformation descriptor: window index out of range of the point set");
-    x.col(k) = restPoints.col(index);
-    y.col(k) = deformedPoints.col(index);
-  }
+  if (x.cols() != window.r.cols() || y.cols() != window.r.cols())
+    throw InvalidInputError("deformation descriptor: " + std::to_string(x.cols()) + " rest and " + std::to_string(y.cols()) +
+                            " deformed samples for a window of " + std::to_string(window.r.cols()));
   if (!y.allFinite()) throw InvalidInputError("deformation descriptor: deformed positions contain NaN or Inf");
 
   const kinematics::MlsDeformationGradient fit =

@@ -116,12 +116,12 @@ void ContactEnricher::setKernelWidths(double sigmaRho, double sigmaU) {
   blender_->setWidths(widths);
 }
 
-void ContactEnricher::checkState(const Eigen::Matrix3Xd& current, StateCheck check) const {
+template <typename Positions>
+void ContactEnricher::checkState(const Positions& current, StateCheck check) const {
   if (current.cols() != rest_.vertices.cols())
     throw InvalidInputError("contact enricher: " + std::to_string(current.cols()) + " current positions for " +
                             std::to_string(rest_.vertices.cols()) + " surface vertices");
-  // x * 0 is NaN exactly for non-finite x; Eigen's vectorised sum checks 50k vertices in tens of microseconds.
-  if (check == StateCheck::Full && !std::isfinite((current.array() * 0.0).sum())) throw InvalidInputError("contact enricher: non-finite current surface positions");
+  if (check == StateCheck::Full && !current.allFinite()) throw InvalidInputError("contact enricher: non-finite current surface positions");
 }
 
 const descriptors::Window& ContactEnricher::surfaceWindow(const Eigen::Vector3d& p) const {
@@ -135,18 +135,21 @@ const descriptors::Window& ContactEnricher::surfaceWindow(const Eigen::Vector3d&
   return *slot;
 }
 
-Eigen::Vector3d ContactEnricher::currentNormal(const Eigen::Matrix3Xd& current, int vertex) const {
+template <typename Positions>
+Eigen::Vector3d ContactEnricher::currentNormal(const Positions& current, int vertex) const {
   Eigen::Vector3d n = Eigen::Vector3d::Zero();
   for (int f : vertexTriangles_[static_cast<std::size_t>(vertex)]) {
-    const Eigen::Vector3d a = current.col(rest_.triangles(0, f));
-    n += (current.col(rest_.triangles(1, f)) - a).cross(current.col(rest_.triangles(2, f)) - a);  // area-weighted
+    const Eigen::Vector3d a = current.col(rest_.triangles(0, f)).template cast<double>();
+    const Eigen::Vector3d b = current.col(rest_.triangles(1, f)).template cast<double>();
+    const Eigen::Vector3d c = current.col(rest_.triangles(2, f)).template cast<double>();
+    n += (b - a).cross(c - a);  // area-weighted
   }
   const double length = n.norm();
   return length > 0.0 ? Eigen::Vector3d(n / length) : Eigen::Vector3d(restNormals_.col(vertex));
 }
 
-void ContactEnricher::locate(const Eigen::Matrix3Xd& positions, int vertex, const Eigen::Vector3d& point,
-                             ContactDescription& d) const {
+template <typename Positions>
+void ContactEnricher::locate(const Positions& positions, int vertex, const Eigen::Vector3d& point, ContactDescription& d) const {
   // The nearest surface point lies on a triangle around the nearest vertex, or on one next to those: search
   // the triangles of the vertex's one-ring (a few dozen), not the mesh.
   double best = std::numeric_limits<double>::infinity();
@@ -156,7 +159,8 @@ void ContactEnricher::locate(const Eigen::Matrix3Xd& positions, int vertex, cons
     for (int k = 0; k < 3; ++k)
       for (int g : vertexTriangles_[static_cast<std::size_t>(rest_.triangles(k, f))]) {
         const Eigen::Vector3i t = rest_.triangles.col(g);
-        const Eigen::Vector3d a = positions.col(t(0)), b = positions.col(t(1)), c = positions.col(t(2));
+        const Eigen::Vector3d a = positions.col(t(0)).template cast<double>(), b = positions.col(t(1)).template cast<double>(),
+                              c = positions.col(t(2)).template cast<double>();
         const Eigen::Vector3d closest = mesh::closestPointOnTriangle(point, a, b, c);
         const double distance = (closest - point).squaredNorm();
         if (distance < best) {
@@ -185,7 +189,8 @@ ContactDescription ContactEnricher::describe(const Eigen::Matrix3Xd& current, co
   return describeValidState(current, contact);
 }
 
-ContactDescription ContactEnricher::describeValidState(const Eigen::Matrix3Xd& current, const Contact& contact) const {
+template <typename Positions>
+ContactDescription ContactEnricher::describeValidState(const Positions& current, const Contact& contact) const {
   if (!contact.point.allFinite()) throw InvalidInputError("contact enricher: non-finite contact point");
   if (contact.normal && !contact.normal->allFinite()) throw InvalidInputError("contact enricher: non-finite contact normal");
   ContactDescription d;
@@ -194,7 +199,7 @@ ContactDescription ContactEnricher::describeValidState(const Eigen::Matrix3Xd& c
     d.p = contact.point;
   } else {
     Eigen::Index nearest = 0;
-    (current.colwise() - contact.point).colwise().squaredNorm().minCoeff(&nearest);
+    (current.colwise() - contact.point.cast<typename Positions::Scalar>()).colwise().squaredNorm().minCoeff(&nearest);
     locate(current, static_cast<int>(nearest), contact.point, d);
     d.p = rest_.vertices(Eigen::all, d.corners) * d.barycentric;
   }
@@ -216,8 +221,9 @@ ContactDescription ContactEnricher::describeValidState(const Eigen::Matrix3Xd& c
   const descriptors::Window& window = surfaceWindow(d.p);
   if (window.empty()) throw InvalidInputError("contact enricher: no surface vertex within the window of the contact");
   // eq. (10)-(11) in kinematics' surface mode: the normals complete F where the samples are coplanar.
-  const descriptors::DeformationDescriptor deformation = descriptors::deformationDescriptor(
-      window, rest_.vertices, current, opt.deformationOrder, &restNormal, &deformedNormal, opt.mls);
+  const descriptors::DeformationDescriptor deformation = descriptors::windowDeformationDescriptor(
+      window, rest_.vertices(Eigen::all, window.indices), current(Eigen::all, window.indices).template cast<double>(),
+      opt.deformationOrder, &restNormal, &deformedNormal, opt.mls);
   const Eigen::Vector3d normal = contact.normal ? *contact.normal : restNormal;
   const descriptors::StampingFrame frame = descriptors::stampingFrame(
       normal, site, &deformation.mu, opt.frameTolerance, contact.previousFrameAxis ? &*contact.previousFrameAxis : nullptr);
@@ -255,6 +261,17 @@ void ContactEnricher::blendContact(const Contact& contact, ContactOutcome& outco
 
 void ContactEnricher::enrich(const Eigen::Matrix3Xd& current, const std::vector<Contact>& contacts, EnrichmentResult& out,
                              StateCheck check) {
+  enrichState(current, contacts, out, check);
+}
+
+void ContactEnricher::enrich(const Eigen::Matrix3Xf& current, const std::vector<Contact>& contacts, EnrichmentResult& out,
+                             StateCheck check) {
+  enrichState(current, contacts, out, check);
+}
+
+template <typename Positions>
+void ContactEnricher::enrichState(const Positions& current, const std::vector<Contact>& contacts, EnrichmentResult& out,
+                                  StateCheck check) {
   const auto start = Clock::now();
   out.contacts.clear();
   out.timings = EnrichmentTimings();

@@ -31,24 +31,16 @@ bool EnrichmentSession::unchanged(const std::vector<Contact>& contacts) const {
   return contacts.size() == memoContacts_.size() && std::equal(contacts.begin(), contacts.end(), memoContacts_.begin(), sameContact);
 }
 
-void EnrichmentSession::loadState(const Eigen::Matrix3Xf& positions) {
-  // Widened (exactly) into a second buffer, swapped in only when finite: a refused state leaves the last
-  // one, the memo's input, in place. Both passes are Eigen's vectorised ones.
-  if (!positions.allFinite()) mesh::validateMeshState(positions, positions.cols());  // throws, naming the point
-  loading_ = positions.cast<double>();
-  current_.swap(loading_);
-}
-
-bool EnrichmentSession::sameAsLastState() const {
-  // After loadState, loading_ holds the state before: bit-equal doubles are bit-equal floats.
-  return loading_.cols() == current_.cols() &&
-         std::memcmp(loading_.data(), current_.data(), sizeof(double) * static_cast<std::size_t>(current_.size())) == 0;
+bool EnrichmentSession::sameAsMemo(const Eigen::Matrix3Xf& positions) const {
+  // One pass over the buffer (~0.1 ms per 100k points), far below describing, blending and mapping.
+  return positions.cols() == memoInput_.cols() &&
+         std::memcmp(positions.data(), memoInput_.data(), sizeof(float) * static_cast<std::size_t>(positions.size())) == 0;
 }
 
 void EnrichmentSession::enrichContacts(const Eigen::Matrix3Xf& positions, const std::vector<Contact>& contacts, double dt) {
-  enricher_->enricher->enrich(current_, contacts, scratch_, ContactEnricher::StateCheck::Skip);  // loadState checked it
+  enricher_->enricher->enrich(positions, contacts, scratch_, ContactEnricher::StateCheck::Skip);  // enrich() checked it
   SurfaceEnrichment& touched = scratch_.enrichment;
-  temporalFilter_.filter(touched, dt, current_.cols());  // a dt <= 0 (stamps going backwards) restarts it
+  temporalFilter_.filter(touched, dt, positions.cols());  // a dt <= 0 (stamps going backwards) restarts it
   enriched_ = positions;
   bool finite = true;  // the input is finite: only the touched vertices can have become non-finite
   for (std::size_t k = 0; k < touched.vertices.size(); ++k) {
@@ -86,10 +78,8 @@ const FrameResult& EnrichmentSession::enrich(const Eigen::Matrix3Xf& positions, 
                                          std::to_string(newest->geometry.surface.numVertices())
                                    : std::string("no rest surface yet"));
   }
-  // Checked before the stream's memory moves on: a state that is not finite changes nothing.
+  mesh::validateMeshState(positions, positions.cols());  // before the stream's memory moves on
   const bool enriching = onActive && enricher_ && enricher_->enricher;
-  if (enriching) loadState(positions);
-  else mesh::validateMeshState(positions, positions.cols());
   const double dt = hasLastStamp_ ? stampSeconds - lastStamp_ : 0.0;
   lastStamp_ = stampSeconds;
   hasLastStamp_ = true;
@@ -116,7 +106,7 @@ const FrameResult& EnrichmentSession::enrich(const Eigen::Matrix3Xf& positions, 
     memoValid_ = false;
     return result_;
   }
-  if (unchanged(contacts) && sameAsLastState()) {
+  if (unchanged(contacts) && sameAsMemo(positions)) {
     result_.kind = FrameResult::Kind::Reused;
     ++stats_.statesReused;
     return result_;
@@ -131,6 +121,7 @@ const FrameResult& EnrichmentSession::enrich(const Eigen::Matrix3Xf& positions, 
     return result_;
   }
   memoValid_ = true;
+  memoInput_ = positions;
   memoContacts_ = std::move(contacts);
   memoConfig_ = configVersion_;
   memoRest_ = active_->version;

@@ -158,7 +158,7 @@ void BM_RebuildOnthread(benchmark::State& state) {
           de::enrichment::Contact contact;
           contact.point = scene.contact;
           contact.restState = false;
-          enricher->enrich(positions.cast<double>(), {contact}, result);
+          enricher->enrich(positions, {contact}, result);
         },
         [] { return true; });
     state.SetIterationTime(longest);

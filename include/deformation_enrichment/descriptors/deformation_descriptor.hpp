@@ -39,4 +39,11 @@ DeformationDescriptor deformationDescriptor(const Window& window, const Eigen::M
                                             const Eigen::Vector3d* deformedNormal = nullptr,
                                             const kinematics::MlsOptions& mls = {});
 
+/// The same from the window's samples themselves: column m of `x` / `y` is sample m's rest / deformed
+/// position (a caller whose deformed positions are not a double matrix gathers them itself).
+DeformationDescriptor windowDeformationDescriptor(const Window& window, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& y,
+                                                  int order, const Eigen::Vector3d* restNormal = nullptr,
+                                                  const Eigen::Vector3d* deformedNormal = nullptr,
+                                                  const kinematics::MlsOptions& mls = {});
+
 }  // namespace deformation_enrichment::descriptors

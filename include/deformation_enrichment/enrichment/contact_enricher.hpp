@@ -134,24 +134,35 @@ public:
   enum class StateCheck { Full, Skip };
   void enrich(const Eigen::Matrix3Xd& current, const std::vector<Contact>& contacts, EnrichmentResult& out,
               StateCheck check = StateCheck::Full);
+  /// The same for a single-precision state (a mesh-state message's points), read where it is needed
+  /// instead of widened as a whole.
+  void enrich(const Eigen::Matrix3Xf& current, const std::vector<Contact>& contacts, EnrichmentResult& out,
+              StateCheck check = StateCheck::Full);
 
   /// s~ = s + e (eq. 1) in place; untouched vertices keep their bits.
   void apply(const EnrichmentResult& result, Eigen::Matrix3Xd& state) const { mapper_.apply(result.enrichment, state); }
 
 private:
+  /// Both enrich() overloads (Positions: Matrix3Xd or Matrix3Xf).
+  template <typename Positions>
+  void enrichState(const Positions& current, const std::vector<Contact>& contacts, EnrichmentResult& out, StateCheck check);
   /// describe() for a state that passed checkState().
-  ContactDescription describeValidState(const Eigen::Matrix3Xd& current, const Contact& contact) const;
+  template <typename Positions>
+  ContactDescription describeValidState(const Positions& current, const Contact& contact) const;
   /// Places the contact on the surface `positions` (rest or current): the nearest point among the triangles
   /// around `vertex` (its nearest vertex), written to d.corners, d.barycentric and d.vertex.
-  void locate(const Eigen::Matrix3Xd& positions, int vertex, const Eigen::Vector3d& point, ContactDescription& d) const;
+  template <typename Positions>
+  void locate(const Positions& positions, int vertex, const Eigen::Vector3d& point, ContactDescription& d) const;
   /// rho at a rest vertex (world axes), computed once per vertex.
   const hermite::MomentList& siteMoments(int vertex) const;
-  Eigen::Vector3d currentNormal(const Eigen::Matrix3Xd& current, int vertex) const;
+  template <typename Positions>
+  Eigen::Vector3d currentNormal(const Positions& current, int vertex) const;
   /// Blends one described contact's stamp (eq. 15 -> RBF -> eq. 16, bounded and scaled) into `stamp`.
   void blendContact(const Contact& contact, ContactOutcome& outcome, ContactStamp& stamp);
   /// The deformation descriptor's window at rest point p (cached, see recentWindows_).
   const descriptors::Window& surfaceWindow(const Eigen::Vector3d& p) const;
-  void checkState(const Eigen::Matrix3Xd& current, StateCheck check = StateCheck::Full) const;
+  template <typename Positions>
+  void checkState(const Positions& current, StateCheck check = StateCheck::Full) const;
 
   ContactEnricherOptions options_;
   mesh::TriangleMesh rest_;

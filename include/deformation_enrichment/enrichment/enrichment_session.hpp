@@ -160,11 +160,8 @@ private:
   void resetStream();
   /// Whether the contacts, configuration and rest surface are those the memo's state was enriched with.
   bool unchanged(const std::vector<Contact>& contacts) const;
-  /// Checks `positions` (InvalidInputError naming a non-finite point; nothing changes then) and converts
-  /// them into current_, the state before going to loading_.
-  void loadState(const Eigen::Matrix3Xf& positions);
-  /// Whether the state loadState took equals the one before it, bit for bit.
-  bool sameAsLastState() const;
+  /// Whether `positions` equal the memo's state bit for bit.
+  bool sameAsMemo(const Eigen::Matrix3Xf& positions) const;
   void enrichContacts(const Eigen::Matrix3Xf& positions, const std::vector<Contact>& contacts, double dt);
   void log(SessionLogLevel level, const std::string& text) const;
 
@@ -186,8 +183,6 @@ private:
   TemporalFilter temporalFilter_;
   std::map<std::string, int> toolNumbers_;
   EnrichmentResult scratch_;
-  Eigen::Matrix3Xd current_;  // the state in double precision (the enricher's); the memo's input
-  Eigen::Matrix3Xd loading_;  // the next state while it is checked, then the state before (swapped with current_)
   FrameResult result_;
   Eigen::Matrix3Xf enriched_;
   double lastStamp_ = 0.0;
@@ -195,6 +190,7 @@ private:
   // Unchanged-input memo: what the last state was computed from, valid only while that state was enriched
   // (then result_ and enriched_ still hold its outcome).
   bool memoValid_ = false;
+  Eigen::Matrix3Xf memoInput_;
   std::vector<Contact> memoContacts_;
   std::uint64_t memoConfig_ = 0, memoRest_ = 0;
 

@@ -107,7 +107,7 @@ TEST(EnrichmentSession, EnrichesExactlyAsTheContactEnricherItWraps) {
   contact.point = tools[0].point;
   contact.restState = false;
   enrichment::EnrichmentResult expected;
-  reference.enrich(state.cast<double>(), continuity.contactsFor({contact}), expected);
+  reference.enrich(Eigen::Matrix3Xd(state.cast<double>()), continuity.contactsFor({contact}), expected);
   Eigen::Matrix3Xf enriched = state;
   for (std::size_t k = 0; k < expected.enrichment.vertices.size(); ++k)
     enriched.col(expected.enrichment.vertices[k]) += expected.enrichment.displacements.col(static_cast<Eigen::Index>(k)).cast<float>();
