@@ -149,6 +149,9 @@ private:
   /// describe() for a state that passed checkState().
   template <typename Positions>
   ContactDescription describeValidState(const Positions& current, const Contact& contact) const;
+  /// The vertex of `current` nearest to `point` (the first of equals).
+  template <typename Positions>
+  int nearestVertex(const Positions& current, const Eigen::Vector3d& point) const;
   /// Places the contact on the surface `positions` (rest or current): the nearest point among the triangles
   /// around `vertex` (its nearest vertex), written to d.corners, d.barycentric and d.vertex.
   template <typename Positions>
@@ -173,6 +176,8 @@ private:
   mutable std::vector<std::optional<hermite::MomentList>> siteCache_;  // rho (world axes) per rest vertex
   mutable std::array<std::optional<descriptors::Window>, 4> recentWindows_;  // last windows (a few tools)
   mutable std::size_t nextWindow_ = 0;
+  mutable Eigen::ArrayXf floatDistances_;    // nearestVertex's scratch
+  mutable Eigen::ArrayXd doubleDistances_;
   std::shared_ptr<ExampleBlender> blender_;
   KernelWidths loadedWidths_;     // of the active set, as fitted at load
   std::vector<cv::Mat> stamps_;   // the active set's stamps (magnitude-aware blending)
