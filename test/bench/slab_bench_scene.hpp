@@ -27,12 +27,15 @@ inline Eigen::Matrix3Xd dented(const Eigen::Matrix3Xd& rest, const Eigen::Vector
   return x;
 }
 
+/// The slab's tet mesh with `cells` x `cells` x `layers` cells.
+inline de::mesh::TetMesh slabVolume(int cells, int layers = 3) {
+  return de::mesh::gridTetMesh(Eigen::Vector3d(-0.05, -0.05, 0.0), Eigen::Vector3d(0.05, 0.05, 0.02), Eigen::Vector3i(cells, cells, layers));
+}
+
 /// The slab's surface with `cells` x `cells` x `layers` cells (150 x 150 x 3: 45 904 top and ~50k surface
 /// vertices; 700 x 700 x 1: ~1M).
 inline de::mesh::TriangleMesh slabSurface(int cells, int layers = 3) {
-  return de::mesh::extractSurface(de::mesh::gridTetMesh(Eigen::Vector3d(-0.05, -0.05, 0.0), Eigen::Vector3d(0.05, 0.05, 0.02),
-                                                        Eigen::Vector3i(cells, cells, layers)))
-      .surface;
+  return de::mesh::extractSurface(slabVolume(cells, layers)).surface;
 }
 
 struct SlabBenchScene {
