@@ -42,8 +42,9 @@ void lookUpStamp(const cv::Mat& stamp, double radius, const Eigen::Matrix2Xd& co
 /// the mapping calls it for every vertex of a stamp.
 inline Eigen::Vector3d sampleStamp(const cv::Mat& stamp, double radius, double phi, double varphi) {
   // Continuous node coordinates; the square [-R, R]^2 maps onto [0, cols-1] x [0, rows-1].
-  double x = (phi + radius) * (stamp.cols - 1) / (2.0 * radius);
-  double y = (varphi + radius) * (stamp.rows - 1) / (2.0 * radius);
+  const double nodesPerMetre = 0.5 / radius;  // one division, shared by both axes
+  double x = (phi + radius) * ((stamp.cols - 1) * nodesPerMetre);
+  double y = (varphi + radius) * ((stamp.rows - 1) * nodesPerMetre);
   // A point on the far edge (phi = R) can land a few ulps past the last node: it is on the edge, not out.
   if (x > stamp.cols - 1 && x <= (stamp.cols - 1) * (1.0 + 1e-12)) x = stamp.cols - 1;
   if (y > stamp.rows - 1 && y <= (stamp.rows - 1) * (1.0 + 1e-12)) y = stamp.rows - 1;
