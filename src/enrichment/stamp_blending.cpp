@@ -123,8 +123,7 @@ StampMapper::StampMapper(Eigen::Matrix3Xd restVertices, double rimBand, Eigen::M
   if (restTriangles.cols() != 0) adjacency_ = mesh::vertexAdjacency(restTriangles, rest_.cols());
   index_ = std::make_unique<KdTree>(rest_);
   if (adjacency_.numVertices() != 0) index_->visited.assign(static_cast<std::size_t>(rest_.cols()), 0u);
-  sum_ = Eigen::Matrix3Xd::Zero(3, rest_.cols());
-  weightSum_ = Eigen::VectorXd::Zero(rest_.cols());
+  slot_.assign(static_cast<std::size_t>(rest_.cols()), -1);
 }
 
 StampMapper::~StampMapper() = default;
@@ -144,6 +143,8 @@ void StampMapper::map(const std::vector<ContactStamp>& contacts, SurfaceEnrichme
       throw InvalidInputError(what + ": rotation R is not orthonormal");
   }
   touched_.clear();
+  sums_.clear();
+  weights_.clear();
   for (const ContactStamp& contact : contacts) {
     const Eigen::Matrix3d RB = contact.rotation * contact.frame;
     const double inverseRadius = 1.0 / contact.radius;
@@ -154,13 +155,21 @@ void StampMapper::map(const std::vector<ContactStamp>& contacts, SurfaceEnrichme
       if (normals_.cols() != 0 && normals_.col(vertex).dot(contact.frame.col(2)) < 0.0) continue;  // far side
       const Eigen::Vector3d x = rest.col(vertex) - contact.contact;
       const double phi = contact.frame.col(0).dot(x), varphi = contact.frame.col(1).dot(x);
-      if (weightSum_[vertex] == 0.0) touched_.push_back(static_cast<int>(vertex));
       // e_c(x) = R B Psi(phi, varphi) (eq. 1), weighted by the rim weight a_c(x).
-      sum_.col(vertex) += a * (RB * sampleStamp(contact.stamp, contact.radius, phi, varphi));
-      weightSum_[vertex] += a;
+      const Eigen::Vector3d e = a * (RB * sampleStamp(contact.stamp, contact.radius, phi, varphi));
+      int& slot = slot_[static_cast<std::size_t>(vertex)];
+      if (slot < 0) {  // first stamp on this vertex: a new compact entry
+        slot = static_cast<int>(touched_.size());
+        touched_.push_back(static_cast<int>(vertex));
+        sums_.push_back(e);
+        weights_.push_back(a);
+      } else {
+        sums_[static_cast<std::size_t>(slot)] += e;
+        weights_[static_cast<std::size_t>(slot)] += a;
+      }
     }
   }
-  // Ascending ids: a scan of the touched id range (weightSum_ marks touched vertices) is linear and beats
+  // Ascending ids: a scan of the touched id range (slot_ marks touched vertices) is linear and beats
   // sorting once the stamp covers thousands of vertices (bench_contact_enricher).
   if (!touched_.empty()) {
     const auto [low, high] = std::minmax_element(touched_.begin(), touched_.end());
@@ -169,7 +178,7 @@ void StampMapper::map(const std::vector<ContactStamp>& contacts, SurfaceEnrichme
       const int first = *low;
       std::size_t k = 0;
       for (std::size_t v = 0; v < range; ++v)
-        if (weightSum_[first + static_cast<Eigen::Index>(v)] != 0.0) touched_[k++] = first + static_cast<int>(v);
+        if (slot_[static_cast<std::size_t>(first) + v] >= 0) touched_[k++] = first + static_cast<int>(v);
     } else {
       std::sort(touched_.begin(), touched_.end());
     }
@@ -177,11 +186,11 @@ void StampMapper::map(const std::vector<ContactStamp>& contacts, SurfaceEnrichme
   out.vertices = touched_;
   out.displacements.resize(3, static_cast<Eigen::Index>(touched_.size()));
   for (std::size_t k = 0; k < touched_.size(); ++k) {
-    const int v = touched_[k];
-    const double weight = weightSum_[v];  // at most 1 unless stamps overlap
-    out.displacements.col(static_cast<Eigen::Index>(k)) = weight > 1.0 ? Eigen::Vector3d(sum_.col(v) / weight) : Eigen::Vector3d(sum_.col(v));
-    sum_.col(v).setZero();  // reset scratch for the next call, touching only what was used
-    weightSum_[v] = 0.0;
+    int& slot = slot_[static_cast<std::size_t>(touched_[k])];
+    const auto entry = static_cast<std::size_t>(slot);
+    const double weight = weights_[entry];  // at most 1 unless stamps overlap
+    out.displacements.col(static_cast<Eigen::Index>(k)) = weight > 1.0 ? Eigen::Vector3d(sums_[entry] / weight) : sums_[entry];
+    slot = -1;  // reset for the next call, touching only what was used
   }
 }
 

@@ -92,9 +92,13 @@ private:
   Eigen::Matrix3Xd normals_;  // empty: no facing test
   mesh::VertexAdjacency adjacency_;  // no vertices: no surface filter (the whole ball)
   std::unique_ptr<KdTree> index_;
-  Eigen::Matrix3Xd sum_;           // scratch: sum_c a_c e_c per vertex
-  Eigen::VectorXd weightSum_;      // scratch: sum_c a_c per vertex
-  std::vector<int> touched_;       // scratch: vertices with a non-zero entry
+  // Scratch of map(): slot_ (one per vertex, -1 between calls) indexes the compact entries of the touched
+  // vertices, sums_ (sum_c a_c e_c) and weights_ (sum_c a_c), in the order they were reached; a few
+  // hundred kilobytes of slots stay in the cache where per-vertex sums would not.
+  std::vector<int> slot_;
+  std::vector<int> touched_;
+  std::vector<Eigen::Vector3d> sums_;
+  std::vector<double> weights_;
 };
 
 }  // namespace deformation_enrichment::enrichment
