@@ -8,6 +8,7 @@
 #include <string>
 #include <type_traits>
 
+#include "deformation_enrichment/all_finite.hpp"
 #include "deformation_enrichment/descriptors/deformation_descriptor.hpp"
 #include "deformation_enrichment/descriptors/interior_sampling.hpp"
 #include "deformation_enrichment/descriptors/moment_window.hpp"
@@ -122,7 +123,7 @@ void ContactEnricher::checkState(const Positions& current, StateCheck check) con
   if (current.cols() != rest_.vertices.cols())
     throw InvalidInputError("contact enricher: " + std::to_string(current.cols()) + " current positions for " +
                             std::to_string(rest_.vertices.cols()) + " surface vertices");
-  if (check == StateCheck::Full && !current.allFinite()) throw InvalidInputError("contact enricher: non-finite current surface positions");
+  if (check == StateCheck::Full && !allFiniteValues(current)) throw InvalidInputError("contact enricher: non-finite current surface positions");
 }
 
 const descriptors::Window& ContactEnricher::surfaceWindow(const Eigen::Vector3d& p) const {

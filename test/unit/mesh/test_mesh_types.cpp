@@ -1,7 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <Eigen/Geometry>
 
+#include "deformation_enrichment/all_finite.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/grid_tet_mesh.hpp"
 #include "deformation_enrichment/mesh/mesh_state.hpp"
@@ -123,6 +126,25 @@ TEST(MeshState, ChecksCountAndFiniteness) {
   } catch (const InvalidInputError& e) {
     EXPECT_NE(std::string(e.what()).find("point 3"), std::string::npos) << e.what();
   }
+}
+
+TEST(MeshState, EveryNonFiniteValueAnywhereInTheBufferIsFound) {
+  // The flat-buffer check (all_finite.hpp) against a NaN, +Inf or -Inf at every position, float and double,
+  // and finite extremes that must pass (their products with 0 are 0).
+  Eigen::Matrix3Xf state = Eigen::Matrix3Xf::Constant(3, 37, std::numeric_limits<float>::max());
+  state(0, 0) = std::numeric_limits<float>::lowest();
+  state(2, 36) = std::numeric_limits<float>::denorm_min();
+  EXPECT_TRUE(allFiniteValues(state));
+  EXPECT_TRUE(allFiniteValues(Eigen::Matrix3Xd(state.cast<double>())));
+  for (const float bad : {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
+                          -std::numeric_limits<float>::infinity()})
+    for (Eigen::Index i = 0; i < state.size(); ++i) {
+      Eigen::Matrix3Xf broken = state;
+      broken.data()[i] = bad;
+      EXPECT_FALSE(allFiniteValues(broken)) << i;
+      EXPECT_FALSE(allFiniteValues(Eigen::Matrix3Xd(broken.cast<double>()))) << i;
+      EXPECT_THROW(mesh::validateMeshState(broken, 37), InvalidInputError) << i;
+    }
 }
 
 TEST(PolygonTriangulation, FansQuadsSkipsLinesAndRejectsBadIndices) {
