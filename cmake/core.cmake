@@ -85,6 +85,7 @@ target_compile_definitions(deformation_enrichment_runtime PRIVATE
   DE_INSTALL_SCENE_DIR="${CMAKE_INSTALL_PREFIX}/share/${PROJECT_NAME}/config/scenes")
 de_add_layer(simulation deformation_enrichment_runtime)
 de_add_layer(shape_space deformation_enrichment_geometry)
+target_link_libraries(deformation_enrichment_shape_space PRIVATE ${CMAKE_DL_LIBS})  # blas_threads.cpp: dlsym
 if(OpenMP_CXX_FOUND)
   foreach(layer descriptors runtime simulation shape_space)
     target_link_libraries(deformation_enrichment_${layer} PUBLIC OpenMP::OpenMP_CXX)

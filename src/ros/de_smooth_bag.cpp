@@ -14,6 +14,7 @@
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/mesh_io.hpp"
 #include "deformation_enrichment/ros/conversions.hpp"
+#include "deformation_enrichment/shape_space/blas_threads.hpp"
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
 #include "deformation_enrichment/shape_space/smoothing_flow.hpp"
 
@@ -88,6 +89,7 @@ int main(int argc, char** argv) {
   app.add_flag("--closed", closed, "periodic sequence");
   app.add_option("--subspace", subspace, "reduced mode with this many PCA directions (0: full space)");
   CLI11_PARSE(app, argc, argv);
+  ss::preferSingleThreadedBlas();
   if (topologyFile.empty() == topologyTopic.empty()) {
     std::fprintf(stderr, "de_smooth_bag: give exactly one of --topology and --topology-topic\n");
     return 2;

@@ -12,6 +12,7 @@
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/polygon_triangulation.hpp"
 #include "deformation_enrichment/ros/conversions.hpp"
+#include "deformation_enrichment/shape_space/blas_threads.hpp"
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
 #include "deformation_enrichment/shape_space/geodesic.hpp"
 #include "deformation_enrichment/shape_space/smoothing_flow.hpp"
@@ -159,6 +160,7 @@ private:
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "shape_space_server");
+  ss::preferSingleThreadedBlas();
   ShapeSpaceServer server(ros::NodeHandle("~"));
   ros::spin();
   return 0;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <type_traits>
 
 #include <Eigen/Cholesky>
@@ -119,15 +120,19 @@ const char* toString(MinimiserStatus status) {
 }
 
 template <class Matrix>
-NewtonReport dampedNewton(const NewtonObjective<Matrix>& objective, Eigen::VectorXd& x, const NewtonOptions& options,
+NewtonReport dampedNewton(const NewtonObjective<Matrix>& objective, Eigen::VectorXd& x, const NewtonOptions& given,
                           const Matrix* initialModel) {
   constexpr bool kDense = std::is_same_v<Matrix, Eigen::MatrixXd>;
-  if (options.quasiNewton && !kDense) throw InvalidInputError("damped Newton: BFGS updates need a dense Hessian model");
+  if (given.quasiNewton && !kDense) throw InvalidInputError(std::string(given.name) + ": BFGS updates need a dense Hessian model");
   NewtonReport report;
   Eigen::VectorXd g;
   double f = objective.evaluate(x, &g);
   ++report.evaluations;
-  if (!std::isfinite(f) || !g.allFinite()) throw NumericalError("damped Newton: the objective is not finite at the start");
+  if (!std::isfinite(f) || !g.allFinite()) throw NumericalError(std::string(given.name) + ": the objective is not finite at the start");
+  NewtonOptions options = given;  // the relative rules resolved at the start
+  options.gradientSquaredTolerance = std::max(given.gradientSquaredTolerance, given.relativeGradientSquaredTolerance * g.squaredNorm());
+  options.decrementTolerance = std::max(given.decrementTolerance, given.relativeDecrementTolerance * f);
+  report.gradientSquaredThreshold = options.gradientSquaredTolerance;
   Matrix h = initialModel ? *initialModel : objective.hessian(x);
   report.hessians += initialModel ? 0 : 1;
   bool fresh = initialModel == nullptr;  // h is the Hessian (model) at x, not an update

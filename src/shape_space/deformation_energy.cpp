@@ -1,11 +1,11 @@
 #include "deformation_enrichment/shape_space/deformation_energy.hpp"
 
 #include <cmath>
-#include <exception>
 #include <string>
 #include <utility>
 
 #include "deformation_enrichment/error.hpp"
+#include "parallel_for.hpp"
 
 namespace deformation_enrichment::shape_space {
 
@@ -59,22 +59,14 @@ std::vector<double> DeformationEnergy::pathSegments(const std::vector<Eigen::Vec
     return p % 2 == 0 ? std::pair<int, int>{a, b} : std::pair<int, int>{b, a};
   };
   const auto wanted = [&](int k) { return gradients && (closed || endGradients || (k > 0 && k + 1 < count)); };
-  std::exception_ptr error;
-#pragma omp parallel for schedule(dynamic) if (numVertices() >= 1000)
-  for (int p = 0; p < passes; ++p) {
-    try {
-      const auto [reference, deformed] = shapesOf(p);
-      EnergyOutputs out;
-      out.value = &values[size_t(p)];
-      if (wanted(reference)) out.gradientReference = &gradReference[size_t(p)];
-      if (wanted(deformed)) out.gradientDeformed = &gradDeformed[size_t(p)];
-      evaluate(shapes[size_t(reference)], shapes[size_t(deformed)], out);
-    } catch (...) {
-#pragma omp critical
-      error = std::current_exception();
-    }
-  }
-  if (error) std::rethrow_exception(error);
+  detail::parallelFor(passes, numVertices() >= detail::kParallelVertices, [&](int p) {
+    const auto [reference, deformed] = shapesOf(p);
+    EnergyOutputs out;
+    out.value = &values[size_t(p)];
+    if (wanted(reference)) out.gradientReference = &gradReference[size_t(p)];
+    if (wanted(deformed)) out.gradientDeformed = &gradDeformed[size_t(p)];
+    evaluate(shapes[size_t(reference)], shapes[size_t(deformed)], out);
+  });
   if (gradients) {
     gradients->assign(shapes.size(), Eigen::VectorXd::Zero(shapes.front().size()));
     for (int p = 0; p < passes; ++p) {

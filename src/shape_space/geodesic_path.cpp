@@ -1,7 +1,6 @@
 #include "deformation_enrichment/shape_space/geodesic_path.hpp"
 
 #include <cmath>
-#include <exception>
 #include <limits>
 #include <string>
 
@@ -10,6 +9,7 @@
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/shape_space/damped_newton.hpp"
 #include "deformation_enrichment/shape_space/path_energy.hpp"
+#include "parallel_for.hpp"
 
 namespace deformation_enrichment::shape_space {
 namespace {
@@ -37,23 +37,6 @@ std::vector<Pass> passes(int count) {
   return out;
 }
 
-// Runs body(i) for i = 0 .. count - 1, in parallel on meshes of >= 1000 vertices (as path_energy.hpp), and
-// rethrows the first exception.
-template <class Body>
-void parallelFor(int count, Eigen::Index numVertices, const Body& body) {
-  std::exception_ptr error;
-#pragma omp parallel for schedule(dynamic) if (numVertices >= 1000)
-  for (int i = 0; i < count; ++i) {
-    try {
-      body(i);
-    } catch (...) {
-#pragma omp critical
-      error = std::current_exception();
-    }
-  }
-  if (error) std::rethrow_exception(error);
-}
-
 // eq. 4 as an objective for dampedNewton: +infinity where a trial collapsed a triangle (the energy rejects it).
 double pathEnergyOrInfinity(const DeformationEnergy& energy, const std::vector<Eigen::VectorXd>& shapes,
                             std::vector<Eigen::VectorXd>* gradients) {
@@ -75,7 +58,7 @@ Eigen::MatrixXd reducedHessianModel(const std::vector<Eigen::SparseMatrix<double
   const int count = int(restHessians.size());
   const Eigen::Index d = basis.cols();
   std::vector<Eigen::MatrixXd> rest(restHessians.size());
-  parallelFor(count, numVertices, [&](int k) { rest[size_t(k)] = basis.transpose() * (restHessians[size_t(k)] * basis); });
+  detail::parallelFor(count, numVertices >= detail::kParallelVertices, [&](int k) { rest[size_t(k)] = basis.transpose() * (restHessians[size_t(k)] * basis); });
   Eigen::MatrixXd model = Eigen::MatrixXd::Zero(d * (count - 2), d * (count - 2));
   const auto inner = [&](int k) { return k > 0 && k + 1 < count; };
   for (int r = 0; r + 1 < count; ++r) {
@@ -97,7 +80,7 @@ Eigen::SparseMatrix<double> pathHessian(const DeformationEnergy& energy, const s
   const Eigen::Index n = shapes.front().size(), unknowns = n * (count - 2);
   const std::vector<Pass> all = passes(count);
   std::vector<Eigen::SparseMatrix<double>> hd(all.size()), hm(all.size()), hr(all.size());
-  parallelFor(int(all.size()), energy.numVertices(), [&](int p) {
+  detail::parallelFor(int(all.size()), energy.numVertices() >= detail::kParallelVertices, [&](int p) {
     EnergyOutputs out;
     out.hessianDeformed = &hd[size_t(p)];
     out.hessianMixed = &hm[size_t(p)];
@@ -126,12 +109,24 @@ Eigen::SparseMatrix<double> pathHessian(const DeformationEnergy& energy, const s
   return h;
 }
 
-PathSolveReport toPathReport(const NewtonReport& newton, double threshold) {
+// The paper's stopping rule |g|^2 <= max(absoluteFactor * unknowns, relativeFactor * |g(start)|^2).
+// Dense reduced problems update a BFGS model; the full one takes a Hessian per step.
+NewtonOptions newtonOptions(const PathSolveOptions& options, Eigen::Index unknowns, const char* name, bool quasiNewton) {
+  NewtonOptions newton;
+  newton.name = name;
+  newton.maxIterations = options.maxIterations;
+  newton.gradientSquaredTolerance = options.absoluteFactor * double(unknowns);
+  newton.relativeGradientSquaredTolerance = options.relativeFactor;
+  newton.quasiNewton = quasiNewton;
+  return newton;
+}
+
+PathSolveReport toPathReport(const NewtonReport& newton) {
   PathSolveReport report;
   report.iterations = newton.iterations;
   report.evaluations = newton.evaluations;
   report.gradientSquaredNorm = newton.gradientSquaredNorm;
-  report.threshold = threshold;
+  report.threshold = newton.gradientSquaredThreshold;
   report.status = newton.status;
   report.converged = newton.converged();
   return report;
@@ -179,16 +174,9 @@ PathSolveReport minimisePathEnergyReduced(const EvaluationSpace& space, std::vec
     restHessians(evaluated, evalShapes(q), rest);
     return reducedHessianModel(rest, evalBasis, evaluated.numVertices());
   };
-  Eigen::VectorXd q = Eigen::VectorXd::Zero(unknowns), g0;
-  if (!std::isfinite(objective.evaluate(q, &g0))) throw NumericalError("reduced path energy: eq. 4 is not finite at the start");
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(unknowns);
   const Eigen::MatrixXd start = given ? reducedHessianModel(*given, evalBasis, evaluated.numVertices()) : objective.hessian(q);
-  const double threshold = std::max(options.absoluteFactor * double(unknowns), options.relativeFactor * g0.squaredNorm());
-  NewtonOptions newton;
-  newton.maxIterations = options.maxIterations;
-  newton.gradientSquaredTolerance = threshold;
-  newton.quasiNewton = true;
-  PathSolveReport report = toPathReport(dampedNewton(objective, q, newton, &start), threshold);
-  ++report.evaluations;
+  PathSolveReport report = toPathReport(dampedNewton(objective, q, newtonOptions(options, unknowns, "reduced path energy", true), &start));
   for (int k = 1; k + 1 < count; ++k) shapes[size_t(k)] += basis * q.segment(d * (k - 1), d);
   return report;
 }
@@ -214,15 +202,9 @@ PathSolveReport minimisePathEnergyFull(const DeformationEnergy& energy, std::vec
     return f;
   };
   objective.hessian = [&](const Eigen::VectorXd& x) { return pathHessian(energy, unpack(x)); };
-  Eigen::VectorXd x(unknowns), g0;
+  Eigen::VectorXd x(unknowns);
   for (int k = 1; k + 1 < count; ++k) x.segment(n * (k - 1), n) = shapes[size_t(k)];
-  if (!std::isfinite(objective.evaluate(x, &g0))) throw NumericalError("full path energy: eq. 4 is not finite at the start");
-  const double threshold = std::max(options.absoluteFactor * double(unknowns), options.relativeFactor * g0.squaredNorm());
-  NewtonOptions newton;
-  newton.maxIterations = options.maxIterations;
-  newton.gradientSquaredTolerance = threshold;
-  PathSolveReport report = toPathReport(dampedNewton(objective, x, newton), threshold);
-  ++report.evaluations;
+  PathSolveReport report = toPathReport(dampedNewton(objective, x, newtonOptions(options, unknowns, "full path energy", false)));
   shapes = unpack(x);
   return report;
 }

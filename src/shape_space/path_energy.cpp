@@ -1,13 +1,14 @@
 #include "deformation_enrichment/shape_space/path_energy.hpp"
 
 #include <cmath>
-#include <exception>
 #include <string>
 
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/shape_space/blas_threads.hpp"
+#include "parallel_for.hpp"
 #include "sparse_cholesky.hpp"
 
 namespace deformation_enrichment::shape_space {
@@ -29,23 +30,15 @@ void restHessians(const DeformationEnergy& energy, const std::vector<Eigen::Vect
                   std::vector<Eigen::SparseMatrix<double>>& hessians, bool ends) {
   const int count = int(shapes.size());
   hessians.resize(shapes.size());
-  std::exception_ptr error;
-#pragma omp parallel for schedule(dynamic) if (energy.numVertices() >= 1000)
-  for (int k = 0; k < count; ++k) {
+  detail::parallelFor(count, energy.numVertices() >= detail::kParallelVertices, [&](int k) {
     if (!ends && (k == 0 || k == count - 1)) {
       hessians[size_t(k)] = Eigen::SparseMatrix<double>();
-      continue;
+      return;
     }
-    try {
-      EnergyOutputs out;
-      out.hessianDeformed = &hessians[size_t(k)];
-      energy.evaluate(shapes[size_t(k)], shapes[size_t(k)], out);
-    } catch (...) {
-#pragma omp critical
-      error = std::current_exception();
-    }
-  }
-  if (error) std::rethrow_exception(error);
+    EnergyOutputs out;
+    out.hessianDeformed = &hessians[size_t(k)];
+    energy.evaluate(shapes[size_t(k)], shapes[size_t(k)], out);
+  });
 }
 
 std::vector<Eigen::VectorXd> flowTangents(const DeformationEnergy& energy, const std::vector<Eigen::VectorXd>& shapes,
@@ -64,14 +57,16 @@ std::vector<Eigen::VectorXd> flowTangents(const std::vector<Eigen::VectorXd>& gr
     throw InvalidInputError("flow tangents: " + std::to_string(restHessians.size()) + " rest Hessians for " +
                             std::to_string(count) + " shapes");
   std::vector<Eigen::VectorXd> tangents(gradients.size());
-  // One symbolic analysis for all shapes (one pattern), and per thread one factor's storage kept across calls
-  // while the pattern stays (measured on the finger: a fresh factor's page faults cost 40 % of its factorisation).
-  detail::SparseCholesky cholesky;
-  // Shape by shape: the supernodal factorisation runs a threaded BLAS, which oversubscribes the cores
-  // inside an OpenMP loop over shapes (measured 2.4x slower on 2 cores).
-  for (int k = 0; k < count; ++k) {
+  // Shapes in parallel only with a single-threaded BLAS (blas_threads.hpp): the supernodal factorisation's
+  // threaded BLAS inside an OpenMP loop over shapes oversubscribes the cores (measured 2.4x slower on 2
+  // cores). One factorisation per thread; each analyses the pattern once for all its shapes.
+  const bool parallel = gradients.size() > 1 && gradients.front().size() >= 3 * detail::kParallelVertices &&
+                        openBlasThreads() <= 1;
+  std::vector<detail::SparseCholesky> factorisations(parallel ? size_t(detail::maxThreads()) : 1);
+  detail::parallelFor(count, parallel, [&](int k) {
     tangents[size_t(k)] = Eigen::VectorXd::Zero(gradients[size_t(k)].size());
-    if (!closed && (k == 0 || k == count - 1)) continue;
+    if (!closed && (k == 0 || k == count - 1)) return;
+    detail::SparseCholesky& cholesky = factorisations[parallel ? size_t(detail::threadIndex()) : 0];
     // eq. 9's metric d1d1 W(x, x) + d2d2 W(x, x) = 2 d2d2 W(x, x) (W(x, x) = 0 and its gradients vanish
     // there for every x, so d1d1 = -d1d2 = d2d2), and (2 H + 2 r I) v = -g / 2 is solved as
     // (H + r I) v = -g / 4. The ridge r removes the rigid null space.
@@ -82,14 +77,14 @@ std::vector<Eigen::VectorXd> flowTangents(const std::vector<Eigen::VectorXd>& gr
     const Eigen::VectorXd rhs = -0.25 * gradients[size_t(k)];
     if (cholesky.factorize(h, ridge)) {
       tangents[size_t(k)] = cholesky.solve(rhs);
-      continue;
+      return;
     }
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;  // semi-definite up to round-off: LDLT
     ldlt.setShift(ridge);
     ldlt.compute(h);
     if (ldlt.info() != Eigen::Success) throw NumericalError("flow tangents: rest Hessian factorisation failed");
     tangents[size_t(k)] = ldlt.solve(rhs);
-  }
+  });
   return tangents;
 }
 

@@ -53,12 +53,11 @@ AverageResult reducedElasticAverage(const DeformationEnergy& energy, const std::
     return Eigen::MatrixXd(0.5 * (h + h.transpose()));
   };
   Eigen::VectorXd q = space.coordinates(initial);
-  const double f0 = objective.evaluate(q, nullptr);
-  if (!std::isfinite(f0)) throw NumericalError("reduced average: objective is not finite at the start");
   NewtonOptions newton;
+  newton.name = "reduced average";
   newton.maxIterations = options.maxIterations;
   newton.quasiNewton = true;
-  newton.decrementTolerance = options.relativeTolerance * f0;
+  newton.relativeDecrementTolerance = options.relativeTolerance;
   newton.gradientSquaredTolerance = options.absoluteTolerance * options.absoluteTolerance;
   const NewtonReport report = dampedNewton(objective, q, newton, &space.restHessian);
   AverageResult result;
@@ -66,7 +65,7 @@ AverageResult reducedElasticAverage(const DeformationEnergy& energy, const std::
   result.reducedCoordinates = std::move(q);
   result.objective = report.value;
   result.iterations = report.iterations;
-  result.evaluations = report.evaluations + 1;
+  result.evaluations = report.evaluations;
   result.status = report.status;
   result.gradientNorm = std::sqrt(report.gradientSquaredNorm);
   return result;

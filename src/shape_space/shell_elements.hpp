@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
+#include "parallel_for.hpp"
 #include "second_order_jet.hpp"
 
 namespace deformation_enrichment::shape_space::detail {
@@ -19,10 +20,6 @@ namespace deformation_enrichment::shape_space::detail {
 /// A triangle whose area is below this times its summed squared edge lengths is degenerate (discrete_shells.hpp).
 constexpr double kDegenerateAreaRatio = 1e-8;
 
-/// Below this many vertices a pass runs serially: the OpenMP team's idle spinning costs more than the work
-/// (measured: a 3-step smoothing of a 366-vertex MD2 clip took 4.7 s with 2 threads, 0.6 s serially, on a
-/// loaded 2-core machine).
-constexpr Eigen::Index kParallelVertices = 1000;
 
 /// a - 2 pi k in [-pi, pi], for a difference of angles (|a| below a few pi): the bending terms' wrapped angle
 /// difference without std::remainder (measured: remainder was a tenth of an eq. 10 evaluation).

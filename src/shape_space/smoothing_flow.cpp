@@ -1,7 +1,6 @@
 #include "deformation_enrichment/shape_space/smoothing_flow.hpp"
 
 #include <cmath>
-#include <exception>
 #include <limits>
 #include <memory>
 #include <string>
@@ -11,16 +10,16 @@
 #include "deformation_enrichment/shape_space/affine_subspace.hpp"
 #include "deformation_enrichment/shape_space/path_energy.hpp"
 #include "deformation_enrichment/shape_space/rigid_interpolation.hpp"
+#include "parallel_for.hpp"
 
 namespace deformation_enrichment::shape_space {
 namespace {
 
 int wrap(int i, int count) { return ((i % count) + count) % count; }
 
-// Parallel over shapes only when each shape is big enough: on small meshes the OpenMP team's idle
-// spinning costs more than the work (measured 5x slower on a loaded 2-core machine).
+// Parallel over shapes only when each shape is big enough (parallel_for.hpp).
 bool parallelWorthIt(const std::vector<Eigen::VectorXd>& shapes) {
-  return shapes.size() > 1 && shapes.front().size() >= 3000;
+  return shapes.size() > 1 && shapes.front().size() >= 3 * detail::kParallelVertices;
 }
 
 ShapeSequence validated(ShapeSequence input) {
@@ -91,18 +90,9 @@ void SmoothingFlow::setCurrent(std::vector<Eigen::VectorXd> shapes) {
   std::vector<Eigen::VectorXd> storage;
   const std::vector<Eigen::VectorXd>& origins = space_.restrict(current_.shapes, storage);
   spaces_.resize(current_.shapes.size());
-  std::exception_ptr error;
-#pragma omp parallel for schedule(dynamic) if (options_.parallelShapes && parallelWorthIt(current_.shapes))
-  for (int i = 0; i < int(current_.shapes.size()); ++i) {
-    if (!isFree(i)) continue;
-    try {
-      spaces_[size_t(i)] = makeReducedSpace(space_.energy(), origins[size_t(i)], basis, origins[size_t(i)]);
-    } catch (...) {
-#pragma omp critical
-      error = std::current_exception();
-    }
-  }
-  if (error) std::rethrow_exception(error);
+  detail::parallelFor(int(current_.shapes.size()), parallelShapes(), [&](int i) {
+    if (isFree(i)) spaces_[size_t(i)] = makeReducedSpace(space_.energy(), origins[size_t(i)], basis, origins[size_t(i)]);
+  });
 }
 
 void SmoothingFlow::addDirections(const std::vector<Eigen::VectorXd>& directions) {
@@ -114,6 +104,8 @@ void SmoothingFlow::addDirections(const std::vector<Eigen::VectorXd>& directions
   }
   setCurrent(current_.shapes);
 }
+
+bool SmoothingFlow::parallelShapes() const { return options_.parallelShapes && parallelWorthIt(current_.shapes); }
 
 bool SmoothingFlow::isFree(int i) const {
   return options_.closed || (i > 0 && i + 1 < int(current_.shapes.size()));
@@ -155,17 +147,19 @@ double SmoothingFlow::reducedResidualSquaredNorm(const std::vector<Eigen::Vector
   const std::vector<Eigen::VectorXd>& shapes = space_.restrict(fineShapes, storage);
   const DeformationEnergy& energy = space_.energy();
   const int count = int(shapes.size());
-  double sum = 0.0;
-#pragma omp parallel for reduction(+ : sum) if (options_.parallelShapes && parallelWorthIt(shapes))
-  for (int i = 0; i < count; ++i) {
-    if (!isFree(i)) continue;
+  // Per-shape terms summed in shape order afterwards: the same sum whatever the thread count.
+  std::vector<double> terms(shapes.size(), 0.0);
+  detail::parallelFor(count, options_.parallelShapes && parallelWorthIt(shapes), [&](int i) {
+    if (!isFree(i)) return;
     const Eigen::VectorXd& x = shapes[size_t(i)];
     const Eigen::VectorXd& prev = shapes[size_t(wrap(i - 1, count))];
     const Eigen::VectorXd& next = shapes[size_t(wrap(i + 1, count))];
     Eigen::VectorXd r = energy.gradientDeformed(prev, x) + energy.gradientDeformed(next, x);
     if (options_.symmetricAverage) r += energy.gradientReference(x, prev) + energy.gradientReference(x, next);
-    sum += options_.reduction.reduced ? (spaces_[size_t(i)].basis->transpose() * r).squaredNorm() : r.squaredNorm();
-  }
+    terms[size_t(i)] = options_.reduction.reduced ? (spaces_[size_t(i)].basis->transpose() * r).squaredNorm() : r.squaredNorm();
+  });
+  double sum = 0.0;
+  for (double term : terms) sum += term;
   return sum;
 }
 
@@ -224,27 +218,19 @@ SmoothingFlow::Trial SmoothingFlow::trialStep(double tau) const {
   trial.shapes.resize(current_.shapes.size());  // the free shapes are filled below: copy only the fixed ones
   for (int i = 0; i < count; ++i)
     if (!isFree(i)) trial.shapes[size_t(i)] = current_.shapes[size_t(i)];
-  std::exception_ptr error;
-#pragma omp parallel for schedule(dynamic) if (options_.parallelShapes && parallelWorthIt(current_.shapes))
-  for (int i = 0; i < count; ++i) {
-    if (!isFree(i) || error) continue;
-    try {
-      AverageResult result = averageAt(i, tau, x, input);
-      trial.shapes[size_t(i)] = std::move(result.shape);
-#pragma omp critical
-      {
-        trial.iterations += result.iterations;
-        if (!result.converged()) {
-          ++trial.unconverged;
-          trial.unconvergedGradientNorm = std::max(trial.unconvergedGradientNorm, result.gradientNorm);
-        }
+  detail::parallelFor(count, parallelShapes(), [&](int i) {
+    if (!isFree(i)) return;
+    AverageResult result = averageAt(i, tau, x, input);
+    trial.shapes[size_t(i)] = std::move(result.shape);
+#pragma omp critical(de_flow_trial)
+    {
+      trial.iterations += result.iterations;
+      if (!result.converged()) {
+        ++trial.unconverged;
+        trial.unconvergedGradientNorm = std::max(trial.unconvergedGradientNorm, result.gradientNorm);
       }
-    } catch (...) {
-#pragma omp critical
-      error = std::current_exception();
     }
-  }
-  if (error) std::rethrow_exception(error);
+  });
   return trial;
 }
 
@@ -253,15 +239,15 @@ void SmoothingFlow::accept(std::vector<Eigen::VectorXd> shapes, double controlle
   // solver's path (measured on noisy MD2 clips: vertex trajectories up to 2.8x rougher while eq. 4 fell
   // 25x; faerie.md2 has 13 pieces). Every piece is moved back onto its input's pose (Kabsch); eq. 4 and the
   // averages do not change.
-  for (int i = 0; i < int(shapes.size()); ++i) {
-    if (!isFree(i)) continue;
+  detail::parallelFor(int(shapes.size()), parallelShapes(), [&](int i) {
+    if (!isFree(i)) return;
     shapes[size_t(i)] = alignPieces(shapes[size_t(i)], input_.shapes[size_t(i)], pieces_);
-    if (!options_.reduction.reduced) continue;
+    if (!options_.reduction.reduced) return;
     // The shape's affine space moves with it: origin at the moved shape, same basis ([Brandt16 §6]: the
     // space of shape i passes through x_i).
     fineOrigins_[size_t(i)] = shapes[size_t(i)];
     spaces_[size_t(i)].origin = space_.restrict(shapes[size_t(i)]);
-  }
+  });
   current_.shapes = std::move(shapes);
   lastControlled_ = controlled;
 }
@@ -282,8 +268,9 @@ FlowStep SmoothingFlow::step() {
     double after = std::numeric_limits<double>::infinity();
     try {
       if (space_.ghost())  // a ghost solve lifted to the fine mesh may collapse a fine triangle: step too long
-        for (int i = 0; i < int(trial.shapes.size()); ++i)
+        detail::parallelFor(int(trial.shapes.size()), parallelShapes(), [&](int i) {
           if (isFree(i)) energy_.checkShape(trial.shapes[size_t(i)]);
+        });
       after = controlledPathEnergy(trial.shapes);
     } catch (const InvalidInputError&) {
     }

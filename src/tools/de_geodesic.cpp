@@ -13,6 +13,7 @@
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/mesh_io.hpp"
+#include "deformation_enrichment/shape_space/blas_threads.hpp"
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
 #include "deformation_enrichment/shape_space/geodesic.hpp"
 #include "deformation_enrichment/shape_space/shape_sequence.hpp"
@@ -40,6 +41,7 @@ int main(int argc, char** argv) {
   app.add_flag("--flow", useFlow, "use the smoothing flow ([Brandt16]) instead of minimising eq. 4 directly");
   app.add_option("--tau", tau, "flow step size in (0, 1] (--flow)");
   CLI11_PARSE(app, argc, argv);
+  ss::preferSingleThreadedBlas();
 
   try {
     const auto start = std::chrono::steady_clock::now();

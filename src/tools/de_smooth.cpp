@@ -19,6 +19,7 @@
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/mesh_io.hpp"
+#include "deformation_enrichment/shape_space/blas_threads.hpp"
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
 #include "deformation_enrichment/shape_space/smoothing_flow.hpp"
 #include "shape_space_cli.hpp"
@@ -96,6 +97,7 @@ int main(int argc, char** argv) {
                "symmetric averaging (eq. 1) instead of eq. 10");
   app.add_flag("--proportional", proportional, "proportion-preserving weights");
   CLI11_PARSE(app, argc, argv);
+  ss::preferSingleThreadedBlas();
 
   try {
     const auto start = std::chrono::steady_clock::now();

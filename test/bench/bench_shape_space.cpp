@@ -22,12 +22,14 @@
 #include <filesystem>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "../unit/shape_space/real_sequences.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/md2_reader.hpp"
 #include "deformation_enrichment/mesh/mesh_io.hpp"
+#include "deformation_enrichment/shape_space/blas_threads.hpp"
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
 #include "deformation_enrichment/shape_space/geodesic.hpp"
 #include "deformation_enrichment/shape_space/shape_sequence.hpp"
@@ -55,6 +57,12 @@ bool large() { return std::getenv("DE_BENCH_LARGE") != nullptr; }
 
 // Seconds of the last ghost-mesh smoothing step (for the filter baseline's ratio).
 double& lastSmoothingSeconds() {
+  static double seconds = 0.0;
+  return seconds;
+}
+
+// Seconds of the last reduced exact geodesic (for the threaded-BLAS baseline's ratio).
+double& lastGeodesicSeconds() {
   static double seconds = 0.0;
   return seconds;
 }
@@ -97,6 +105,7 @@ void geodesicCase(benchmark::State& state, Mode mode) {
     benchmark::DoNotOptimize(g.length);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (mode == Mode::ReducedExact) lastGeodesicSeconds() = seconds;
   // CPU time of all threads: on a shared machine less load-dependent than real time.
   state.counters["process_cpu_s"] = double(std::clock() - cpuStart) / CLOCKS_PER_SEC / double(state.iterations());
   // Accuracy against the full-space path of the same run ([Brandt16 §7]: lengths within 0.1 %, shapes by
@@ -270,14 +279,47 @@ void smoothingRun(benchmark::State& state, bool md2) {
   state.counters["frames"] = double(input.numShapes());
 }
 
+// Baseline of the tools' BLAS choice (blas_threads.hpp): a case run with OpenBLAS's own default, one thread
+// per core, as the tools ran before, next to the same case with the single-threaded BLAS that main()
+// chooses. `seconds` is where the case records its timed seconds (restored afterwards: it holds the
+// single-threaded figure other ratios use). Skipped with another BLAS (the choice changes nothing there).
+template <class Case>
+void withThreadedBlas(benchmark::State& state, Case run, double& seconds) {
+  const int before = ss::openBlasThreads();
+  const int cores = int(std::thread::hardware_concurrency());
+  if (before == 0 || cores < 2) {
+    state.SkipWithError("the BLAS is not OpenBLAS, or one core: nothing to compare");
+    for (auto _ : state) {
+    }
+    return;
+  }
+  const double single = seconds;
+  ss::setOpenBlasThreads(cores);
+  run(state);
+  ss::setOpenBlasThreads(before);
+  state.counters["blas_threads"] = cores;
+  if (single > 0.0) state.counters["threaded_over_single_blas"] = seconds / single;
+  seconds = single;
+}
+
+void geodesicThreadedBlas(benchmark::State& state) {
+  withThreadedBlas(state, [](benchmark::State& s) { geodesicCase(s, Mode::ReducedExact); }, lastGeodesicSeconds());
+}
+
+void smoothingStepThreadedBlas(benchmark::State& state) {
+  withThreadedBlas(state, [](benchmark::State& s) { smoothingStep(s, true, 0.0); }, lastSmoothingSeconds());
+}
+
 }  // namespace
 
 // The full-space case runs first: the reduced ones report their distance to its path.
 BENCHMARK_CAPTURE(geodesicCase, full, Mode::Full)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(geodesicCase, reduced_exact, Mode::ReducedExact)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(geodesicThreadedBlas)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(geodesicCase, reduced_ghost, Mode::ReducedGhost)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(geodesicCase, flow_reduced, Mode::FlowReduced)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 BENCHMARK_CAPTURE(smoothingStep, reduced_ghost, true, 0.0)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(smoothingStepThreadedBlas)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 // The same step with each average solved to |grad_z|^2 <= 1e-8 objective(start) instead of 1e-12.
 BENCHMARK_CAPTURE(smoothingStep, reduced_ghost_tol1e-8, true, 1e-8)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(smoothingStep, reduced_exact, false, 0.0)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
@@ -285,4 +327,12 @@ BENCHMARK(gaussianFilterStep)->Iterations(3)->Unit(benchmark::kMillisecond)->Use
 BENCHMARK_CAPTURE(smoothingRun, md2_faerie_taunt_17_frames, true)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(smoothingRun, armadillo_5k_bent_16_frames, false)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-BENCHMARK_MAIN();
+// As the shape-space tools do at start-up (blas_threads.hpp); the *ThreadedBlas cases are the baseline.
+int main(int argc, char** argv) {
+  ss::preferSingleThreadedBlas();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

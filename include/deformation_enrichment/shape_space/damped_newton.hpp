@@ -28,6 +28,11 @@ struct NewtonOptions {
   int maxIterations = 100;
   double gradientSquaredTolerance = 0.0;  ///< converged when |g|^2 <= this
   double decrementTolerance = 0.0;        ///< or when the Newton decrement -g.d <= this
+  /// The same rules relative to the start, resolved by the minimiser's first evaluation (a caller that
+  /// evaluated the start itself would pay that evaluation twice); the larger of each pair applies.
+  double relativeGradientSquaredTolerance = 0.0;  ///< |g|^2 <= this * |g(start)|^2
+  double relativeDecrementTolerance = 0.0;        ///< -g.d <= this * f(start)
+  const char* name = "damped Newton";             ///< the solver named in errors
   /// Dense problems: between Hessians, update the model by BFGS (kept positive definite by skipping pairs
   /// with s.y <= 0); a new Hessian is taken only when the model yields no descent step.
   bool quasiNewton = false;
@@ -41,6 +46,7 @@ struct NewtonReport {
   double value = 0.0;
   double gradientSquaredNorm = 0.0;
   double decrement = 0.0;  ///< -g.d of the last computed step (0 if none)
+  double gradientSquaredThreshold = 0.0;  ///< the |g|^2 rule that applied (options resolved at the start)
   bool converged() const { return status != MinimiserStatus::NotConverged; }
 };
 
@@ -53,8 +59,8 @@ struct NewtonObjective {
 };
 
 /// Minimises from x in place (x ends at the last accepted iterate). initialModel, if given, replaces the
-/// first Hessian (e.g. a rest-shape Hessian as BFGS warm start). Throws NumericalError if the objective is
-/// not finite at the start.
+/// first Hessian (e.g. a rest-shape Hessian as BFGS warm start). Throws NumericalError (naming options.name)
+/// if the objective is not finite at the start.
 template <class Matrix>
 NewtonReport dampedNewton(const NewtonObjective<Matrix>& objective, Eigen::VectorXd& x, const NewtonOptions& options,
                           const Matrix* initialModel = nullptr);

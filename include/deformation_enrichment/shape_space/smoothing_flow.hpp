@@ -116,6 +116,7 @@ private:
                           const std::vector<Eigen::VectorXd>& input) const;
   double controlledPathEnergy(const std::vector<Eigen::VectorXd>& shapes) const;
   bool isFree(int i) const;
+  bool parallelShapes() const;  ///< loops over shapes on the OpenMP team (options and mesh size)
 
   const DeformationEnergy& energy_;
   ShapeSequence input_;
