@@ -34,8 +34,12 @@ inline int threadIndex() {
 
 template <class Body>
 void parallelFor(int count, bool parallel, const Body& body) {
+  if (!parallel) {  // no OpenMP region at all: inside even an inactive one, a body's own parallel regions
+    for (int i = 0; i < count; ++i) body(i);  // (CHOLMOD's) would get a nested team of fresh threads
+    return;
+  }
   std::exception_ptr error;
-#pragma omp parallel for schedule(dynamic) if (parallel)
+#pragma omp parallel for schedule(dynamic)
   for (int i = 0; i < count; ++i) {
     try {
       body(i);
