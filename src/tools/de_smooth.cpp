@@ -85,6 +85,7 @@ int main(int argc, char** argv) {
   bool closed = false, proportional = false;
   de::tools::ShapeSpaceCli common;
   common.ghost = 1250;
+  common.subspace = ss::kSmoothingSubspaceDimension;
   std::vector<int> restoredShapes;
   app.add_option("--input", inputs, "input meshes (OBJ/PLY, same topology), in temporal order")->required();
   app.add_option("--output", output, "output directory (created if missing)")->required();

@@ -16,7 +16,9 @@ struct ShapeSpaceCli {
   std::string energyName = "hyperelastic";
 
   void addTo(CLI::App& app, const std::string& ghostHelp, const std::string& symmetricHelp) {
-    auto* sub = app.add_option("--subspace", subspace, "PCA subspace dimension (reduced mode, default)")->check(CLI::PositiveNumber);
+    auto* sub = app.add_option("--subspace", subspace, "PCA subspace dimension (reduced mode, the default; capped by the shapes' own directions)")
+                    ->check(CLI::PositiveNumber)
+                    ->capture_default_str();
     app.add_flag("--full", full, "full-space Newton instead of the reduced solver")->excludes(sub);
     app.add_option("--ghost", ghost, ghostHelp)->check(CLI::NonNegativeNumber);
     app.add_flag("--symmetric", symmetric, symmetricHelp);

@@ -176,7 +176,7 @@ void smoothingStep(benchmark::State& state, bool ghost, double relativeTolerance
   ss::FlowOptions options;
   options.tau = 0.5;
   options.reduction.reduced = true;
-  options.reduction.subspaceDimension = 16;
+  options.reduction.subspaceDimension = envInt("DE_BENCH_SUBSPACE", 16);
   options.reduction.useGhostMesh = ghost;
   options.parallelShapes = true;  // Jacobi update: the shapes of one step are independent
   if (relativeTolerance > 0.0) options.reducedSolver.relativeTolerance = relativeTolerance;

@@ -28,7 +28,17 @@ namespace deformation_enrichment::shape_space {
 
 enum class FlowWeights { Fixed, ProportionPreserving };
 
+/// Reduced smoothing's default PCA dimension: every direction of a sequence of up to 65 shapes. A shape can
+/// only shed its own noise if the subspace holds it: with 16 directions (the earlier default) near-static
+/// clips longer than 17 frames barely smoothed (MD2 "stand" and "crstnd" clips with fresh noise of 0.1-0.5 %:
+/// intrinsic roughness x0.24-0.85, vertex trajectories up to 1.3x rougher, and more distortion than the
+/// Gaussian filter on 25 of 30 runs; with 64: x0.007-0.50, at most x0.97, less distortion on 29 of 30;
+/// README, Shape space). The cap bounds each shape's dense d x d quasi-Newton model.
+constexpr int kSmoothingSubspaceDimension = 64;
+
 struct FlowOptions {
+  FlowOptions() { reduction.subspaceDimension = kSmoothingSubspaceDimension; }
+
   double tau = 0.5;                  ///< step size in (0, 1]
   bool closed = false;               ///< periodic curve (indices mod m+1); otherwise the ends stay fixed
   FlowWeights weights = FlowWeights::Fixed;
@@ -41,7 +51,8 @@ struct FlowOptions {
   /// (reducedResidualSquaredNorm); geodesic() sets it for eq. 10. Off (default): eq. 4 decreases every
   /// accepted step, and the flow reports a stall instead.
   bool acceptResidualDecrease = false;
-  /// Reduced mode, subspace size and ghost mesh ([Brandt16 §6]); full-space Newton by default.
+  /// Reduced mode, subspace size (kSmoothingSubspaceDimension) and ghost mesh ([Brandt16 §6]); full-space
+  /// Newton by default.
   ReductionOptions reduction;
   /// Below this many shapes, the flow tangents (eq. 9) of all shapes enrich the shared subspace. [Brandt16 §6]
   /// does this below 20 frames of a coarse curve (geodesic() does); on noisy captures the tangents are
