@@ -81,8 +81,10 @@ std::vector<double> DeformationEnergy::pathSegments(const std::vector<Eigen::Vec
 }
 
 std::unique_ptr<WeightedReferenceEnergy> DeformationEnergy::weightedReferences(
-    const std::vector<double>&, const std::vector<const Eigen::VectorXd*>&) const {
+    const std::vector<double>&, const std::vector<const Eigen::VectorXd*>&, const std::vector<const ReferenceData*>&) const {
   return nullptr;
 }
+
+std::shared_ptr<const ReferenceData> DeformationEnergy::referenceData(const Eigen::VectorXd&) const { return nullptr; }
 
 }  // namespace deformation_enrichment::shape_space

@@ -28,7 +28,6 @@
 namespace deformation_enrichment::shape_space {
 namespace {
 
-
 using detail::kDegenerateAreaRatio;
 
 template <int NV, class Index>
@@ -48,10 +47,52 @@ bool degenerate(const std::array<Eigen::Vector3d, 3>& x) {
   return !(doubleArea > 2.0 * kDegenerateAreaRatio * (q[0] + q[1] + q[2]));
 }
 
+// What the aggregation reads of one reference: per face its squared edge lengths (edge m opposite corner m)
+// and area, per hinge its angle and weight (without bendingWeight), per edge its length (classic membrane).
+struct ShellReference final : ReferenceData {
+  std::vector<std::array<double, 4>> faces;
+  std::vector<std::array<double, 2>> hinges;
+  std::vector<double> edgeLengths;
+};
+
+// The area of face t as the single terms compute it (|n| / 2); throws if it is degenerate.
+double referenceArea(const std::array<Eigen::Vector3d, 3>& x, const std::array<double, 3>& q, Eigen::Index t) {
+  const double doubleArea = (x[1] - x[0]).cross(x[2] - x[0]).norm();
+  if (!(doubleArea > 2.0 * kDegenerateAreaRatio * (q[0] + q[1] + q[2])))
+    throw InvalidInputError("DiscreteShells: triangle " + std::to_string(t) + " of a reference shape is degenerate");
+  return 0.5 * doubleArea;
+}
+
+ShellReference shellReference(const DiscreteShells& shells, const Eigen::VectorXd& ref) {
+  const DiscreteShellsParameters& p = shells.parameters();
+  ShellReference r;
+  r.faces.resize(size_t(shells.numTriangles()));
+  for (Eigen::Index t = 0; t < shells.numTriangles(); ++t) {
+    const auto x = gatherCorners<3>(ref, shells.triangles().col(t));
+    const std::array<double, 3> q = squaredLengths(x);
+    r.faces[size_t(t)] = {q[0], q[1], q[2], referenceArea(x, q, t)};
+  }
+  if (p.membrane != MembraneModel::Hyperelastic) {
+    r.edgeLengths.resize(shells.edges().size());
+    for (size_t e = 0; e < shells.edges().size(); ++e)
+      r.edgeLengths[e] = (ref.segment<3>(3 * shells.edges()[e][0]) - ref.segment<3>(3 * shells.edges()[e][1])).norm();
+  }
+  if (p.bendingWeight > 0.0) {
+    const double hingeFactor = p.membrane == MembraneModel::Hyperelastic ? 1.0 : 3.0;
+    r.hinges.resize(shells.hinges().size());
+    for (size_t h = 0; h < shells.hinges().size(); ++h) {
+      const auto x = gatherCorners<4>(ref, shells.hinges()[h]);
+      r.hinges[h] = {dihedralAngle(x[0], x[1], x[2], x[3]), detail::hingeWeightAndGradient(x, hingeFactor, nullptr)};
+    }
+  }
+  return r;
+}
+
 class ShellWeightedReferences final : public WeightedReferenceEnergy {
 public:
+  // data[i] (if given and not null) is shellReference(shells, *references[i]).
   ShellWeightedReferences(const DiscreteShells& shells, const std::vector<double>& weights,
-                          const std::vector<const Eigen::VectorXd*>& references)
+                          const std::vector<const Eigen::VectorXd*>& references, const std::vector<const ShellReference*>& data)
       : shells_(shells), hyperelastic_(shells.parameters().membrane == MembraneModel::Hyperelastic) {
     const DiscreteShellsParameters& p = shells.parameters();
     const Eigen::Index numTriangles = shells.numTriangles();
@@ -60,16 +101,22 @@ public:
     hinges_.assign(shells.hinges().size(), {});
     std::vector<double> thetaFirst(hinges_.size(), 0.0), omegaTheta(hinges_.size(), 0.0), omegaTheta2(hinges_.size(), 0.0);
     std::vector<double> thetaMin(hinges_.size(), 0.0), thetaMax(hinges_.size(), 0.0);
-    const double hingeFactor = hyperelastic_ ? 1.0 : 3.0;
+    std::vector<const ShellReference*> used(references.size(), nullptr);  // of the references with weight
+    std::vector<ShellReference> computed;
+    computed.reserve(references.size());
+    for (size_t i = 0; i < references.size(); ++i) {
+      if (weights[i] == 0.0) continue;
+      used[i] = data.empty() ? nullptr : data[i];
+      if (!used[i]) used[i] = &computed.emplace_back(shellReference(shells, *references[i]));
+    }
     bool first = true;
     for (size_t i = 0; i < references.size(); ++i) {
       const double w = weights[i];
       if (w == 0.0) continue;
-      const Eigen::VectorXd& ref = *references[i];
+      const ShellReference& ref = *used[i];
       for (Eigen::Index t = 0; t < numTriangles; ++t) {
-        const auto x = gatherCorners<3>(ref, shells.triangles().col(t));
-        const std::array<double, 3> r = squaredLengths(x);
-        const double area = referenceArea(x, r, t, i);
+        const std::array<double, 4>& r = ref.faces[size_t(t)];  // q_0, q_1, q_2, area
+        const double area = r[3];
         Face& f = faces_[size_t(t)];
         if (hyperelastic_) {
           const double c = 0.5 * p.mu / (8.0 * area);
@@ -90,17 +137,16 @@ public:
       if (!hyperelastic_) {
         for (size_t e = 0; e < edges_.size(); ++e) {  // k_L (l - l_bar)^2 / l_bar, as the faces
           edges_[e].linear += w;
-          edges_[e].quadratic += w / referenceLength(ref, e);
+          edges_[e].quadratic += w / ref.edgeLengths[e];
         }
       }
       if (p.bendingWeight > 0.0) {
         for (size_t h = 0; h < hinges_.size(); ++h) {
-          const auto x = gatherCorners<4>(ref, shells.hinges()[h]);
-          double theta = dihedralAngle(x[0], x[1], x[2], x[3]);
+          double theta = ref.hinges[h][0];
           // Unwrapped against the first example so that hinges near +-pi aggregate consistently.
           if (first) thetaFirst[h] = theta;
           else theta = thetaFirst[h] + detail::wrappedAngle(theta - thetaFirst[h]);
-          const double omega = w * p.bendingWeight * detail::hingeWeightAndGradient(x, hingeFactor, nullptr);
+          const double omega = w * p.bendingWeight * ref.hinges[h][1];
           hinges_[h].omega += omega;
           omegaTheta[h] += omega * theta;
           omegaTheta2[h] += omega * (theta - thetaFirst[h]) * (theta - thetaFirst[h]);  // shifted: no cancellation
@@ -112,7 +158,7 @@ public:
       first = false;
       ++references_;
     }
-    if (!hyperelastic_) classicTargets(weights, references);
+    if (!hyperelastic_) classicTargets(weights, used);
     for (size_t h = 0; h < hinges_.size(); ++h) {
       Hinge& hinge = hinges_[h];
       if (!(hinge.omega > 0.0)) continue;
@@ -268,21 +314,9 @@ private:
     if (!y.allFinite()) throw InvalidInputError("DiscreteShells: deformed shape is not finite");
   }
 
-  // The area of face t of reference i as the single terms compute it (|n| / 2); throws if it is degenerate.
-  static double referenceArea(const std::array<Eigen::Vector3d, 3>& x, const std::array<double, 3>& q, Eigen::Index t, size_t i) {
-    const double doubleArea = (x[1] - x[0]).cross(x[2] - x[0]).norm();
-    if (!(doubleArea > 2.0 * kDegenerateAreaRatio * (q[0] + q[1] + q[2])))
-      throw InvalidInputError("DiscreteShells: triangle " + std::to_string(t) + " of reference " + std::to_string(i) + " is degenerate");
-    return 0.5 * doubleArea;
-  }
-
-  double referenceLength(const Eigen::VectorXd& ref, size_t e) const {
-    return (ref.segment<3>(3 * shells_.edges()[e][0]) - ref.segment<3>(3 * shells_.edges()[e][1])).norm();
-  }
-
   // Classic membrane: turns the sums (sum w, sum w / x_bar) into (x_star, k a) and adds
   // k sum_i w_i (x_bar_i - x_star)^2 / x_bar_i to the constants (a second pass over the examples).
-  void classicTargets(const std::vector<double>& weights, const std::vector<const Eigen::VectorXd*>& references) {
+  void classicTargets(const std::vector<double>& weights, const std::vector<const ShellReference*>& references) {
     const DiscreteShellsParameters& p = shells_.parameters();
     for (Face& f : faces_) {
       f.linear[0] = f.quadratic > 0.0 ? f.linear[0] / f.quadratic : 0.0;
@@ -296,12 +330,11 @@ private:
       const double w = weights[i];
       if (w == 0.0) continue;
       for (Eigen::Index t = 0; t < shells_.numTriangles(); ++t) {
-        const auto x = gatherCorners<3>(*references[i], shells_.triangles().col(t));
-        const double area = referenceArea(x, squaredLengths(x), t, i), excess = area - faces_[size_t(t)].linear[0];
+        const double area = references[i]->faces[size_t(t)][3], excess = area - faces_[size_t(t)].linear[0];
         faces_[size_t(t)].constant += w * p.areaWeight * excess * excess / area;
       }
       for (size_t e = 0; e < edges_.size(); ++e) {
-        const double length = referenceLength(*references[i], e), excess = length - edges_[e].linear;
+        const double length = references[i]->edgeLengths[e], excess = length - edges_[e].linear;
         constant_ += w * p.lengthWeight * excess * excess / length;
       }
     }
@@ -339,9 +372,13 @@ private:
 }  // namespace
 
 std::unique_ptr<WeightedReferenceEnergy> DiscreteShells::weightedReferences(
-    const std::vector<double>& weights, const std::vector<const Eigen::VectorXd*>& references) const {
+    const std::vector<double>& weights, const std::vector<const Eigen::VectorXd*>& references,
+    const std::vector<const ReferenceData*>& data) const {
   if (weights.size() != references.size())
     throw InvalidInputError("DiscreteShells: " + std::to_string(weights.size()) + " weights for " +
+                            std::to_string(references.size()) + " references");
+  if (!data.empty() && data.size() != references.size())
+    throw InvalidInputError("DiscreteShells: " + std::to_string(data.size()) + " reference data for " +
                             std::to_string(references.size()) + " references");
   for (size_t i = 0; i < references.size(); ++i) {
     if (!(std::isfinite(weights[i]) && weights[i] >= 0.0))
@@ -350,7 +387,18 @@ std::unique_ptr<WeightedReferenceEnergy> DiscreteShells::weightedReferences(
       throw InvalidInputError("DiscreteShells: reference " + std::to_string(i) + " has the wrong size");
     if (!references[i]->allFinite()) throw InvalidInputError("DiscreteShells: reference " + std::to_string(i) + " is not finite");
   }
-  return std::make_unique<ShellWeightedReferences>(*this, weights, references);
+  std::vector<const ShellReference*> shellData(data.size(), nullptr);
+  for (size_t i = 0; i < data.size(); ++i) {
+    shellData[i] = dynamic_cast<const ShellReference*>(data[i]);
+    if (data[i] && (!shellData[i] || shellData[i]->faces.size() != size_t(numTriangles())))
+      throw InvalidInputError("DiscreteShells: reference data " + std::to_string(i) + " is not of this energy");
+  }
+  return std::make_unique<ShellWeightedReferences>(*this, weights, references, shellData);
+}
+
+std::shared_ptr<const ReferenceData> DiscreteShells::referenceData(const Eigen::VectorXd& shape) const {
+  DeformationEnergy::checkShape(shape);
+  return std::make_shared<const ShellReference>(shellReference(*this, shape));
 }
 
 }  // namespace deformation_enrichment::shape_space

@@ -74,12 +74,13 @@ Eigen::SparseMatrix<double> averageHessian(const DeformationEnergy& energy, cons
 }
 
 AverageObjective::AverageObjective(const DeformationEnergy& energy, std::vector<double> weights,
-                                   std::vector<const Eigen::VectorXd*> examples, bool symmetric)
+                                   std::vector<const Eigen::VectorXd*> examples, bool symmetric,
+                                   const std::vector<const ReferenceData*>& data)
     : energy_(energy), weights_(std::move(weights)), examples_(std::move(examples)), symmetric_(symmetric) {
   if (examples_.empty() || !examples_.front()) throw InvalidInputError("elastic average of no shapes");
   checkInputs(weights_, examples_, *examples_.front());
   // eq. 10 with an energy that aggregates its references: one pass per evaluation instead of one per example.
-  if (!symmetric_) aggregated_ = energy_.weightedReferences(weights_, examples_);
+  if (!symmetric_) aggregated_ = energy_.weightedReferences(weights_, examples_, data);
 }
 
 double AverageObjective::value(const Eigen::VectorXd& y, Eigen::VectorXd* gradient) const {

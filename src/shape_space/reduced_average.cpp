@@ -37,10 +37,11 @@ ReducedSpace makeReducedSpace(const DeformationEnergy& energy, Eigen::VectorXd o
 
 AverageResult reducedElasticAverage(const DeformationEnergy& energy, const std::vector<double>& weights,
                                     const std::vector<const Eigen::VectorXd*>& examples, const ReducedSpace& space,
-                                    const Eigen::VectorXd& initial, const ReducedAverageOptions& options) {
+                                    const Eigen::VectorXd& initial, const ReducedAverageOptions& options,
+                                    const std::vector<const ReferenceData*>& data) {
   if (initial.size() != space.origin.size()) throw InvalidInputError("reduced average: initial shape has the wrong size");
   const Eigen::MatrixXd& basis = *space.basis;
-  const AverageObjective average(energy, weights, examples, options.symmetric);
+  const AverageObjective average(energy, weights, examples, options.symmetric, data);
   NewtonObjective<Eigen::MatrixXd> objective;
   objective.evaluate = [&](const Eigen::VectorXd& q, Eigen::VectorXd* gradient) {
     Eigen::VectorXd gradY;

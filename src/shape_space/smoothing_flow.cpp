@@ -73,6 +73,7 @@ void SmoothingFlow::setCurrent(std::vector<Eigen::VectorXd> shapes) {
   current_ = std::move(next);
   lastControlled_ = -1.0;
   spaces_.clear();
+  inputData_.clear();
   fineBasis_.reset();
   fineOrigins_.clear();
   if (!options_.reduction.reduced) return;
@@ -93,6 +94,8 @@ void SmoothingFlow::setCurrent(std::vector<Eigen::VectorXd> shapes) {
   detail::parallelFor(int(current_.shapes.size()), parallelShapes(), [&](int i) {
     if (isFree(i)) spaces_[size_t(i)] = makeReducedSpace(space_.energy(), origins[size_t(i)], basis, origins[size_t(i)]);
   });
+  std::vector<Eigen::VectorXd> inputStorage;  // the restoring force's references do not change: kept for the run
+  inputData_ = options_.rho > 0.0 ? referenceData(space_.restrict(input_.shapes, inputStorage)) : ReferenceDataList{};
 }
 
 void SmoothingFlow::addDirections(const std::vector<Eigen::VectorXd>& directions) {
@@ -103,6 +106,15 @@ void SmoothingFlow::addDirections(const std::vector<Eigen::VectorXd>& directions
     extraDirections_.push_back(d);
   }
   setCurrent(current_.shapes);
+}
+
+// The reduced eq. 10 averages aggregate their references (weightedReferences); what the energy computes of
+// each reference alone is computed once per shape here instead of once per average.
+SmoothingFlow::ReferenceDataList SmoothingFlow::referenceData(const std::vector<Eigen::VectorXd>& shapes) const {
+  if (!options_.reduction.reduced || options_.symmetricAverage) return {};
+  ReferenceDataList data(shapes.size());
+  detail::parallelFor(int(shapes.size()), parallelShapes(), [&](int i) { data[size_t(i)] = space_.energy().referenceData(shapes[size_t(i)]); });
+  return data;
 }
 
 bool SmoothingFlow::parallelShapes() const { return options_.parallelShapes && parallelWorthIt(current_.shapes); }
@@ -170,9 +182,10 @@ Eigen::Index SmoothingFlow::degreesOfFreedom() const {
   return dof;
 }
 
-// The average of eq. 2 (+ restoring force) for shape i, x and input in the evaluation space.
+// The average of eq. 2 (+ restoring force) for shape i, x and input in the evaluation space; xData: x's
+// reference data (referenceData), or empty.
 AverageResult SmoothingFlow::averageAt(int i, double tau, const std::vector<Eigen::VectorXd>& x,
-                                       const std::vector<Eigen::VectorXd>& input) const {
+                                       const std::vector<Eigen::VectorXd>& input, const ReferenceDataList& xData) const {
   const int count = int(x.size());
   const Eigen::VectorXd& prev = x[size_t(wrap(i - 1, count))];
   const Eigen::VectorXd& succ = x[size_t(wrap(i + 1, count))];
@@ -191,9 +204,13 @@ AverageResult SmoothingFlow::averageAt(int i, double tau, const std::vector<Eige
   const double keep = restored_[size_t(i)] ? 1.0 - options_.rho : 1.0;
   std::vector<double> weights{keep * wPrev, keep * (1.0 - tau), keep * wNext};
   std::vector<const Eigen::VectorXd*> examples{&prev, &x[size_t(i)], &succ};
+  std::vector<const ReferenceData*> data;
+  if (!xData.empty())
+    data = {xData[size_t(wrap(i - 1, count))].get(), xData[size_t(i)].get(), xData[size_t(wrap(i + 1, count))].get()};
   if (restored_[size_t(i)] && options_.rho > 0.0) {
     weights.push_back(options_.rho);
     examples.push_back(&input[size_t(i)]);
+    if (!data.empty()) data.push_back(inputData_.empty() ? nullptr : inputData_[size_t(i)].get());
   }
   if (!options_.reduction.reduced) {
     AverageOptions solverOptions = options_.full;
@@ -202,7 +219,7 @@ AverageResult SmoothingFlow::averageAt(int i, double tau, const std::vector<Eige
   }
   ReducedAverageOptions solverOptions = options_.reducedSolver;
   solverOptions.symmetric = options_.symmetricAverage;
-  AverageResult result = reducedElasticAverage(energy, weights, examples, spaces_[size_t(i)], x[size_t(i)], solverOptions);
+  AverageResult result = reducedElasticAverage(energy, weights, examples, spaces_[size_t(i)], x[size_t(i)], solverOptions, data);
   // Same reduced coordinates on the fine mesh (exact lift without a ghost mesh).
   if (space_.ghost()) result.shape = fineOrigins_[size_t(i)] + *fineBasis_ * result.reducedCoordinates;
   return result;
@@ -218,9 +235,10 @@ SmoothingFlow::Trial SmoothingFlow::trialStep(double tau) const {
   trial.shapes.resize(current_.shapes.size());  // the free shapes are filled below: copy only the fixed ones
   for (int i = 0; i < count; ++i)
     if (!isFree(i)) trial.shapes[size_t(i)] = current_.shapes[size_t(i)];
+  const ReferenceDataList xData = referenceData(x);  // each shape serves as reference of up to 3 averages
   detail::parallelFor(count, parallelShapes(), [&](int i) {
     if (!isFree(i)) return;
-    AverageResult result = averageAt(i, tau, x, input);
+    AverageResult result = averageAt(i, tau, x, input, xData);
     trial.shapes[size_t(i)] = std::move(result.shape);
 #pragma omp critical(de_flow_trial)
     {

@@ -32,6 +32,13 @@ public:
   virtual Eigen::SparseMatrix<double> hessian(const Eigen::VectorXd& deformed) const = 0;
 };
 
+/// What an energy computes from a reference shape alone, kept for every weightedReferences call that uses the
+/// shape as a reference (a smoothing step's shapes serve 3-4 averages each). Opaque to callers.
+class ReferenceData {
+public:
+  virtual ~ReferenceData() = default;
+};
+
 class DeformationEnergy {
 public:
   virtual ~DeformationEnergy() = default;
@@ -87,8 +94,18 @@ public:
 
   /// sum_i w_i W[references_i, .] prepared for repeated evaluation, or null if this energy has no such form
   /// (the default; callers then sum the terms). The result refers to this energy, which must outlive it.
-  virtual std::unique_ptr<WeightedReferenceEnergy> weightedReferences(
-      const std::vector<double>& weights, const std::vector<const Eigen::VectorXd*>& references) const;
+  /// `data` is empty or holds per reference referenceData(*references[i]) (or null: computed here).
+  virtual std::unique_ptr<WeightedReferenceEnergy> weightedReferences(const std::vector<double>& weights,
+                                                                      const std::vector<const Eigen::VectorXd*>& references,
+                                                                      const std::vector<const ReferenceData*>& data) const;
+  std::unique_ptr<WeightedReferenceEnergy> weightedReferences(const std::vector<double>& weights,
+                                                              const std::vector<const Eigen::VectorXd*>& references) const {
+    return weightedReferences(weights, references, {});
+  }
+
+  /// `shape`'s reference data for weightedReferences, or null if the energy keeps none (the default).
+  /// Throws what weightedReferences throws for such a reference.
+  virtual std::shared_ptr<const ReferenceData> referenceData(const Eigen::VectorXd& shape) const;
 
 protected:
   /// Throws InvalidInputError naming the argument if a shape has the wrong size or a non-finite entry.

@@ -101,8 +101,13 @@ public:
   /// per-element reference data (see there), so the examples aggregate into one effective reference.
   /// Value, gradient and Hessian in one deformed-only pass each. Throws InvalidInputError for mismatched sizes, negative or non-finite
   /// weights, or non-finite or degenerate references.
-  std::unique_ptr<WeightedReferenceEnergy> weightedReferences(
-      const std::vector<double>& weights, const std::vector<const Eigen::VectorXd*>& references) const override;
+  /// `data` as referenceData() makes it: per face the squared edge lengths and area, per hinge the angle and
+  /// weight, per edge (classic membrane) the length.
+  using DeformationEnergy::weightedReferences;
+  std::unique_ptr<WeightedReferenceEnergy> weightedReferences(const std::vector<double>& weights,
+                                                              const std::vector<const Eigen::VectorXd*>& references,
+                                                              const std::vector<const ReferenceData*>& data) const override;
+  std::shared_ptr<const ReferenceData> referenceData(const Eigen::VectorXd& shape) const override;
 
   /// Membrane and bending parts separately (bending already multiplied by bendingWeight).
   double membraneValue(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const;

@@ -42,9 +42,10 @@ struct AverageResult {
 class AverageObjective {
 public:
   /// Throws InvalidInputError for mismatched sizes, negative/non-finite weights, all-zero weights or
-  /// non-finite examples.
+  /// non-finite examples. `data`: the examples' DeformationEnergy::referenceData, if the caller keeps it.
   AverageObjective(const DeformationEnergy& energy, std::vector<double> weights,
-                   std::vector<const Eigen::VectorXd*> examples, bool symmetric);
+                   std::vector<const Eigen::VectorXd*> examples, bool symmetric,
+                   const std::vector<const ReferenceData*>& data = {});
   /// The value and, with gradient, its gradient at y; +infinity if y is not admissible (a collapsed
   /// triangle), so a solver treats such a trial as too long.
   double value(const Eigen::VectorXd& y, Eigen::VectorXd* gradient) const;

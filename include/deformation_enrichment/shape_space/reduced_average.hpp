@@ -45,9 +45,11 @@ ReducedSpace makeReducedSpace(const DeformationEnergy& energy, Eigen::VectorXd o
 
 /// Minimises eq. 10 (or eq. 1) over the subspace starting at the projection of `initial`. A run that does
 /// not converge returns its last iterate with status NotConverged (never a worse objective than the start).
+/// `data`: the examples' DeformationEnergy::referenceData, if the caller keeps it (AverageObjective).
 /// Throws InvalidInputError for bad sizes or weights, NumericalError if the objective is not finite at the start.
 AverageResult reducedElasticAverage(const DeformationEnergy& energy, const std::vector<double>& weights,
                                     const std::vector<const Eigen::VectorXd*>& examples, const ReducedSpace& space,
-                                    const Eigen::VectorXd& initial, const ReducedAverageOptions& options = {});
+                                    const Eigen::VectorXd& initial, const ReducedAverageOptions& options = {},
+                                    const std::vector<const ReferenceData*>& data = {});
 
 }  // namespace deformation_enrichment::shape_space

@@ -120,11 +120,14 @@ public:
 
 private:
   struct Trial;
+  using ReferenceDataList = std::vector<std::shared_ptr<const ReferenceData>>;
   Trial trialStep(double tau) const;
+  /// Per shape (evaluation space) its reference data for the reduced eq. 10 averages; empty otherwise.
+  ReferenceDataList referenceData(const std::vector<Eigen::VectorXd>& shapes) const;
   /// Makes `shapes` (with eq. 4 `controlled`) the current ones, each piece moved rigidly onto its input pose.
   void accept(std::vector<Eigen::VectorXd> shapes, double controlled);
   AverageResult averageAt(int i, double tau, const std::vector<Eigen::VectorXd>& x,
-                          const std::vector<Eigen::VectorXd>& input) const;
+                          const std::vector<Eigen::VectorXd>& input, const ReferenceDataList& xData) const;
   double controlledPathEnergy(const std::vector<Eigen::VectorXd>& shapes) const;
   bool isFree(int i) const;
   bool parallelShapes() const;  ///< loops over shapes on the OpenMP team (options and mesh size)
@@ -137,6 +140,7 @@ private:
   std::vector<char> restored_;
   std::vector<std::vector<int>> pieces_;  ///< connected components of the mesh (each keeps its input pose)
   std::vector<ReducedSpace> spaces_;  ///< per shape (reduced mode), in the evaluation space
+  ReferenceDataList inputData_;       ///< reduced mode with a restoring force: the inputs' reference data
   std::shared_ptr<const Eigen::MatrixXd> fineBasis_;  ///< reduced mode: the shared basis on the fine mesh
   std::vector<Eigen::VectorXd> fineOrigins_;          ///< reduced mode: shape i = fineOrigins_[i] + B q
   double lastControlled_ = -1.0;  ///< controlledPathEnergy() of current_ after a step (< 0: unknown)
