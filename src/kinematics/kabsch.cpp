@@ -27,7 +27,10 @@ RigidTransform kabsch(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& y, cons
   const Eigen::Vector3d xBar = x * wn / W, yBar = y * wn / W;
   // Cross-covariance A = sum w_m (y_m - y_bar)(x_m - x_bar)ᵀ; the optimal rotation is the proper
   // rotation factor of its polar decomposition A = R S (the SVD with the reflection fix).
-  const Eigen::Matrix3d A = (y.colwise() - yBar) * wn.asDiagonal() * (x.colwise() - xBar).transpose();
+  // One pass of 3 x 3 outer products: as a 3 x n by n x 3 matrix product it went through two centred copies
+  // and GEMM packing (measured 2.5x the instructions on 15k points).
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+  for (Eigen::Index m = 0; m < x.cols(); ++m) A.noalias() += wn[m] * (y.col(m) - yBar) * (x.col(m) - xBar).transpose();
   RigidTransform result;
   result.R = polarDecomposition(A).R;
   result.t = yBar - result.R * xBar;
