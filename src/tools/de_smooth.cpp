@@ -64,6 +64,7 @@ nlohmann::json run(ss::SmoothingFlow& flow, int iterations) {
   out["path_energy"] = energies;
   if (ghost) out["ghost_path_energy"] = ghostEnergies;
   out["ghost_vertices"] = flow.ghostVertices();
+  out["subspace_dimension"] = flow.subspaceDimension();
   out["tau"] = taus;
   out["solver_iterations"] = solverIterations;
   out["unconverged_averages"] = unconverged;

@@ -104,6 +104,9 @@ public:
   double controlledPathEnergy() const { return controlledPathEnergy(current_.shapes); }
   /// Vertices of the ghost mesh in use (0: none).
   Eigen::Index ghostVertices() const { return space_.ghostVertices(); }
+  /// Reduced mode: the shared subspace's dimension (at most options' subspaceDimension, fewer if the shapes
+  /// span fewer directions); 0 in full mode.
+  Eigen::Index subspaceDimension() const { return fineBasis_ ? fineBasis_->cols() : 0; }
   /// Squared norm of the flow's own fixed-point residual, projected like reducedPathGradientSquaredNorm
   /// (on the ghost mesh if one is used):
   /// eq. 3 for the symmetric average (eq. 1); d2 E(x_{i-1}, x_i) + d2 E(x_{i+1}, x_i) for eq. 10, whose

@@ -56,6 +56,15 @@ TEST(ShapeSpaceTools, SmoothAndGeodesicWriteMeshesAndJson) {
   EXPECT_LT(smooth["path_energy"][2].get<double>(), smooth["path_energy"][0].get<double>());
   EXPECT_GT(smooth["seconds"].get<double>(), 0.0);
   for (size_t i = 0; i < shapes.size(); ++i) EXPECT_TRUE(fs::exists(dir / "smooth" / ("frame" + std::to_string(i) + ".obj")));
+  EXPECT_EQ(smooth["subspace_dimension"].get<int>(), 0);  // full space
+
+  // Reduced (the default): every direction of the 5 shapes (4, below the default cap of 64), or as asked.
+  for (const auto& [option, dimension] : {std::pair<std::string, int>{"", 4}, {" --subspace 2", 2}}) {
+    const std::string reducedJson = run(tool("de_smooth") + " --input" + inputs + " --output " + (dir / "reduced").string() +
+                                            " --iterations 1 --json" + option, &status);
+    ASSERT_EQ(status, 0) << reducedJson;
+    EXPECT_EQ(nlohmann::json::parse(reducedJson)["subspace_dimension"].get<int>(), dimension) << option;
+  }
 
   const std::string geoJson = run(tool("de_geodesic") + " " + (dir / "frame0.obj").string() + " " +
                                       (dir / "frame4.obj").string() + " --shapes 4 --full --json --output " +
