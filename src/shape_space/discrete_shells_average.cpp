@@ -48,8 +48,10 @@ bool degenerate(const std::array<Eigen::Vector3d, 3>& x) {
 }
 
 // What the aggregation reads of one reference: per face its squared edge lengths (edge m opposite corner m)
-// and area, per hinge its angle and weight (without bendingWeight), per edge its length (classic membrane).
+// and area, per hinge its angle and weight (without bendingWeight; the weight's factor depends on the
+// membrane), per edge its length (classic membrane).
 struct ShellReference final : ReferenceData {
+  MembraneModel membrane = MembraneModel::Hyperelastic;
   std::vector<std::array<double, 4>> faces;
   std::vector<std::array<double, 2>> hinges;
   std::vector<double> edgeLengths;
@@ -66,6 +68,7 @@ double referenceArea(const std::array<Eigen::Vector3d, 3>& x, const std::array<d
 ShellReference shellReference(const DiscreteShells& shells, const Eigen::VectorXd& ref) {
   const DiscreteShellsParameters& p = shells.parameters();
   ShellReference r;
+  r.membrane = p.membrane;
   r.faces.resize(size_t(shells.numTriangles()));
   for (Eigen::Index t = 0; t < shells.numTriangles(); ++t) {
     const auto x = gatherCorners<3>(ref, shells.triangles().col(t));
@@ -86,6 +89,14 @@ ShellReference shellReference(const DiscreteShells& shells, const Eigen::VectorX
     }
   }
   return r;
+}
+
+// Data made by referenceData() of an energy with this mesh and membrane, and bending where this one bends.
+bool fitsThisEnergy(const ShellReference& r, const DiscreteShells& shells) {
+  const DiscreteShellsParameters& p = shells.parameters();
+  return r.membrane == p.membrane && r.faces.size() == size_t(shells.numTriangles()) &&
+         r.edgeLengths.size() == (p.membrane == MembraneModel::Hyperelastic ? 0 : shells.edges().size()) &&
+         (!(p.bendingWeight > 0.0) || r.hinges.size() == shells.hinges().size());
 }
 
 class ShellWeightedReferences final : public WeightedReferenceEnergy {
@@ -390,7 +401,7 @@ std::unique_ptr<WeightedReferenceEnergy> DiscreteShells::weightedReferences(
   std::vector<const ShellReference*> shellData(data.size(), nullptr);
   for (size_t i = 0; i < data.size(); ++i) {
     shellData[i] = dynamic_cast<const ShellReference*>(data[i]);
-    if (data[i] && (!shellData[i] || shellData[i]->faces.size() != size_t(numTriangles())))
+    if (data[i] && !(shellData[i] && fitsThisEnergy(*shellData[i], *this)))
       throw InvalidInputError("DiscreteShells: reference data " + std::to_string(i) + " is not of this energy");
   }
   return std::make_unique<ShellWeightedReferences>(*this, weights, references, shellData);

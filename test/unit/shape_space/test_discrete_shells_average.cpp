@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
+#include <vector>
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/shape_space/dihedral_angle.hpp"
@@ -131,4 +133,48 @@ TEST(WeightedReferences, BadInputGivesClearErrors) {
   EXPECT_THROW(aggregated->evaluate(shorter, nullptr), de::InvalidInputError);
   EXPECT_THROW(aggregated->hessian(flat), de::InvalidInputError);
   EXPECT_THROW(aggregated->hessian(nan), de::InvalidInputError);
+}
+
+// Reference data computed once per shape (referenceData) and passed in gives the same objective, bit for bit,
+// as computing it inside (the smoothing flow shares it between the averages of a step).
+TEST(WeightedReferences, SharedReferenceDataGivesTheSameObjective) {
+  const FlatMesh mesh = bumpyGrid(6, 4);
+  const References references(mesh, 0.05, 3);
+  const std::vector<double> weights{0.3, 0.5, 0.2};
+  const Eigen::VectorXd y = perturbed(mesh.vertices, 0.04, 7);
+  for (const auto& parameters : {ss::DiscreteShellsParameters::classic(), ss::DiscreteShellsParameters::hyperelastic(0.05)}) {
+    const ss::DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, parameters);
+    std::vector<std::shared_ptr<const ss::ReferenceData>> kept;
+    for (const Eigen::VectorXd& shape : references.shapes) kept.push_back(energy.referenceData(shape));
+    // All shared, and one left to be computed inside (null).
+    for (const std::vector<const ss::ReferenceData*>& data :
+         {std::vector<const ss::ReferenceData*>{kept[0].get(), kept[1].get(), kept[2].get()},
+          std::vector<const ss::ReferenceData*>{kept[0].get(), nullptr, kept[2].get()}}) {
+      Eigen::VectorXd gradient, gradientShared;
+      const double value = energy.weightedReferences(weights, references.pointers)->evaluate(y, &gradient);
+      EXPECT_EQ(energy.weightedReferences(weights, references.pointers, data)->evaluate(y, &gradientShared), value);
+      EXPECT_EQ(gradientShared, gradient);
+    }
+  }
+}
+
+TEST(WeightedReferences, ReferenceDataOfAnotherEnergyIsRejected) {
+  const FlatMesh mesh = bumpyGrid(5, 4), other = bumpyGrid(4, 4);
+  const Eigen::VectorXd x = mesh.vertices;
+  const ss::DiscreteShells classic(mesh.triangles, mesh.vertices.size() / 3, ss::DiscreteShellsParameters::classic());
+  const ss::DiscreteShells hyperelastic(mesh.triangles, mesh.vertices.size() / 3, ss::DiscreteShellsParameters::hyperelastic(0.05));
+  const ss::DiscreteShells smaller(other.triangles, other.vertices.size() / 3, ss::DiscreteShellsParameters::classic());
+  // The other membrane: no edge lengths, and hinge weights with another factor.
+  const auto hyperelasticData = hyperelastic.referenceData(x);
+  EXPECT_THROW(classic.weightedReferences({1.0}, {&x}, {hyperelasticData.get()}), de::InvalidInputError);
+  const Eigen::VectorXd y = other.vertices;
+  const auto smallerData = smaller.referenceData(y);  // another mesh
+  EXPECT_THROW(classic.weightedReferences({1.0}, {&x}, {smallerData.get()}), de::InvalidInputError);
+  const auto classicData = classic.referenceData(x);
+  EXPECT_THROW(classic.weightedReferences({1.0}, {&x}, {classicData.get(), classicData.get()}), de::InvalidInputError);
+  EXPECT_THROW(hyperelastic.weightedReferences({1.0}, {&x}, {classicData.get()}), de::InvalidInputError);
+  EXPECT_NO_THROW(classic.weightedReferences({1.0}, {&x}, {classicData.get()}));
+  Eigen::VectorXd nan = x;
+  nan[0] = std::nan("");
+  EXPECT_THROW(classic.referenceData(nan), de::InvalidInputError);
 }
