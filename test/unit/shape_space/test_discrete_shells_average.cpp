@@ -27,6 +27,13 @@ struct References {
   std::vector<const Eigen::VectorXd*> pointers;
 };
 
+// Runs check(energy) with the classic and the hyperelastic membrane on `mesh`.
+template <class Check>
+void forBothMembranes(const FlatMesh& mesh, const Check& check) {
+  for (const auto& parameters : {ss::DiscreteShellsParameters::classic(), ss::DiscreteShellsParameters::hyperelastic(0.05)})
+    check(ss::DiscreteShells(mesh.triangles, mesh.vertices.size() / 3, parameters));
+}
+
 }  // namespace
 
 TEST(WeightedReferences, EqualTheSumOfTermsForBothMembranesWithGradient) {
@@ -34,8 +41,7 @@ TEST(WeightedReferences, EqualTheSumOfTermsForBothMembranesWithGradient) {
   const References references(mesh, 0.03, 1);
   const std::vector<double> weights{0.25, 0.0, 0.6};
   const Eigen::VectorXd y = perturbed(mesh.vertices, 0.04, 9);
-  for (const auto& parameters : {ss::DiscreteShellsParameters::classic(), ss::DiscreteShellsParameters::hyperelastic(0.05)}) {
-    const ss::DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, parameters);
+  forBothMembranes(mesh, [&](const ss::DiscreteShells& energy) {
     double sum = 0.0;
     Eigen::VectorXd gradientSum = Eigen::VectorXd::Zero(y.size());
     for (size_t i = 0; i < references.shapes.size(); ++i) {
@@ -57,7 +63,7 @@ TEST(WeightedReferences, EqualTheSumOfTermsForBothMembranesWithGradient) {
       const double fd = (aggregated->evaluate(plus, nullptr) - aggregated->evaluate(minus, nullptr)) / (2 * h);
       EXPECT_NEAR(gradient[i], fd, 1e-6 * std::max(1.0, std::abs(fd)));
     }
-  }
+  });
 }
 
 // Noisy hinges (as on real captures): the references' dihedral angles spread by more than pi/2, where the
@@ -101,15 +107,14 @@ TEST(WeightedReferences, HessianEqualsTheSumOfTheTermsHessians) {
   // Mild and wide-spread reference angles: both branches of the bending term.
   for (double amplitude : {0.03, 0.12}) {
     const References references(mesh, amplitude, 1);
-      const std::vector<double> weights{0.25, 0.15, 0.6};
+    const std::vector<double> weights{0.25, 0.15, 0.6};
     const Eigen::VectorXd y = perturbed(mesh.vertices, amplitude, 9);
-    for (const auto& parameters : {ss::DiscreteShellsParameters::classic(), ss::DiscreteShellsParameters::hyperelastic(0.05)}) {
-      const ss::DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, parameters);
+    forBothMembranes(mesh, [&](const ss::DiscreteShells& energy) {
       Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(y.size(), y.size());
       for (size_t i = 0; i < references.shapes.size(); ++i) sum += weights[i] * Eigen::MatrixXd(energy.hessianDeformed(references.shapes[i], y));
       const Eigen::MatrixXd aggregated(energy.weightedReferences(weights, references.pointers)->hessian(y));
       EXPECT_LT((aggregated - sum).norm(), 1e-9 * sum.norm()) << "amplitude " << amplitude;
-    }
+    });
   }
 }
 
@@ -140,10 +145,9 @@ TEST(WeightedReferences, BadInputGivesClearErrors) {
 TEST(WeightedReferences, SharedReferenceDataGivesTheSameObjective) {
   const FlatMesh mesh = bumpyGrid(6, 4);
   const References references(mesh, 0.05, 3);
-  const std::vector<double> weights{0.3, 0.5, 0.2};
   const Eigen::VectorXd y = perturbed(mesh.vertices, 0.04, 7);
-  for (const auto& parameters : {ss::DiscreteShellsParameters::classic(), ss::DiscreteShellsParameters::hyperelastic(0.05)}) {
-    const ss::DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, parameters);
+  forBothMembranes(mesh, [&](const ss::DiscreteShells& energy) {
+    const std::vector<double> weights{0.3, 0.5, 0.2};
     std::vector<std::shared_ptr<const ss::ReferenceData>> kept;
     for (const Eigen::VectorXd& shape : references.shapes) kept.push_back(energy.referenceData(shape));
     // All shared, and one left to be computed inside (null).
@@ -155,7 +159,7 @@ TEST(WeightedReferences, SharedReferenceDataGivesTheSameObjective) {
       EXPECT_EQ(energy.weightedReferences(weights, references.pointers, data)->evaluate(y, &gradientShared), value);
       EXPECT_EQ(gradientShared, gradient);
     }
-  }
+  });
 }
 
 TEST(WeightedReferences, ReferenceDataOfAnotherEnergyIsRejected) {

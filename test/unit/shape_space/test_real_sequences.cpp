@@ -84,14 +84,22 @@ TEST(RealSequences, EveryMd2ClipSmoothsWithFallingPathEnergyAndLessDistortionTha
   EXPECT_LT(flowSum.volume, filterSum.volume);
 }
 
-TEST(RealSequences, BentCgalMeshWithNoiseSmoothsLikeTheClips) {
-  de::mesh::TriangleMesh rest;
-  try {
-    rest = cgalMesh("elephant");
-  } catch (const de::IoError& e) {
-    GTEST_SKIP() << e.what() << " (Debian libcgal-demo)";
+// The elephant of [CGAL-data] bent by a known smooth field, with 0.2 % noise.
+class BentCgalMesh : public ::testing::Test {
+protected:
+  void SetUp() override {
+    try {
+      rest_ = cgalMesh("elephant");
+    } catch (const de::IoError& e) {
+      GTEST_SKIP() << e.what() << " (Debian libcgal-demo)";
+    }
   }
-  ss::ShapeSequence input{rest.triangles, withNoise(bentSequence(rest, 12, 1.5), 0.002, 5)};
+  ss::ShapeSequence bent(int frames) const { return {rest_.triangles, withNoise(bentSequence(rest_, frames, 1.5), 0.002, 5)}; }
+  de::mesh::TriangleMesh rest_;
+};
+
+TEST_F(BentCgalMesh, SmoothsLikeTheClips) {
+  const ss::ShapeSequence input = bent(12);
   ss::validateSequence(input, 3);
   const FilterComparison c = checkRun(input, longRun() ? 10 : 3, "elephant bent 2e-3");
   EXPECT_GT(c.sigma, kLotOfFiltering);  // a smooth bend with noise: the filter needs a wide kernel
@@ -99,15 +107,8 @@ TEST(RealSequences, BentCgalMeshWithNoiseSmoothsLikeTheClips) {
 
 // A longer moving sequence (40 frames, more than the 16 directions of the former subspace default): with 16
 // directions it kept x0.58 of its roughness after 10 steps; with every direction it reaches a tenth in 3.
-TEST(RealSequences, LongBentCgalSequenceSmoothsInEveryDirection) {
-  de::mesh::TriangleMesh rest;
-  try {
-    rest = cgalMesh("elephant");
-  } catch (const de::IoError& e) {
-    GTEST_SKIP() << e.what() << " (Debian libcgal-demo)";
-  }
-  const ss::ShapeSequence input{rest.triangles, withNoise(bentSequence(rest, 40, 1.5), 0.002, 5)};
-  const FilterComparison c = checkRun(input, 3, "elephant bent 40 frames 2e-3");
+TEST_F(BentCgalMesh, LongSequenceSmoothsInEveryDirection) {
+  const FilterComparison c = checkRun(bent(40), 3, "elephant bent 40 frames 2e-3");
   EXPECT_LT(c.roughnessAfter, 0.1 * c.roughnessBefore);
   EXPECT_LT(c.trajectoryAfter, 0.1 * c.trajectoryBefore);
 }
