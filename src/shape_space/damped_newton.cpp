@@ -121,7 +121,7 @@ const char* toString(MinimiserStatus status) {
 
 template <class Matrix>
 NewtonReport dampedNewton(const NewtonObjective<Matrix>& objective, Eigen::VectorXd& x, const NewtonOptions& given,
-                          const Matrix* initialModel) {
+                          const Matrix* initialModel, Matrix* finalModel) {
   constexpr bool kDense = std::is_same_v<Matrix, Eigen::MatrixXd>;
   if (given.quasiNewton && !kDense) throw InvalidInputError(std::string(given.name) + ": BFGS updates need a dense Hessian model");
   NewtonReport report;
@@ -140,6 +140,7 @@ NewtonReport dampedNewton(const NewtonObjective<Matrix>& objective, Eigen::Vecto
   double damping = kMinDamping;
   int tinySteps = 0;
   const auto finish = [&](MinimiserStatus status) {
+    if (finalModel) *finalModel = h;
     report.status = status;
     report.value = f;
     report.gradientSquaredNorm = g.squaredNorm();
@@ -187,8 +188,8 @@ NewtonReport dampedNewton(const NewtonObjective<Matrix>& objective, Eigen::Vecto
 }
 
 template NewtonReport dampedNewton<Eigen::MatrixXd>(const NewtonObjective<Eigen::MatrixXd>&, Eigen::VectorXd&,
-                                                    const NewtonOptions&, const Eigen::MatrixXd*);
+                                                    const NewtonOptions&, const Eigen::MatrixXd*, Eigen::MatrixXd*);
 template NewtonReport dampedNewton<Sparse>(const NewtonObjective<Sparse>&, Eigen::VectorXd&, const NewtonOptions&,
-                                           const Sparse*);
+                                           const Sparse*, Sparse*);
 
 }  // namespace deformation_enrichment::shape_space

@@ -31,7 +31,7 @@ ReducedSpace makeReducedSpace(const DeformationEnergy& energy, Eigen::VectorXd o
   hr.diagonal().array() += ridge;
   if (Eigen::LLT<Eigen::MatrixXd>(hr).info() != Eigen::Success)
     throw NumericalError("reduced space: the reduced rest Hessian is not positive definite");
-  space.restHessian = std::move(hr);
+  space.warmStart = std::move(hr);
   return space;
 }
 
@@ -60,8 +60,8 @@ AverageResult reducedElasticAverage(const DeformationEnergy& energy, const std::
   newton.quasiNewton = true;
   newton.relativeDecrementTolerance = options.relativeTolerance;
   newton.gradientSquaredTolerance = options.absoluteTolerance * options.absoluteTolerance;
-  const NewtonReport report = dampedNewton(objective, q, newton, &space.restHessian);
   AverageResult result;
+  const NewtonReport report = dampedNewton(objective, q, newton, &space.warmStart, &result.reducedModel);
   result.shape = space.lift(q);
   result.reducedCoordinates = std::move(q);
   result.objective = report.value;

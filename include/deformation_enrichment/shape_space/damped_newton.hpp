@@ -63,12 +63,13 @@ struct NewtonObjective {
 /// if the objective is not finite at the start.
 template <class Matrix>
 NewtonReport dampedNewton(const NewtonObjective<Matrix>& objective, Eigen::VectorXd& x, const NewtonOptions& options,
-                          const Matrix* initialModel = nullptr);
+                          const Matrix* initialModel = nullptr, Matrix* finalModel = nullptr);
 
 extern template NewtonReport dampedNewton<Eigen::MatrixXd>(const NewtonObjective<Eigen::MatrixXd>&, Eigen::VectorXd&,
-                                                           const NewtonOptions&, const Eigen::MatrixXd*);
+                                                           const NewtonOptions&, const Eigen::MatrixXd*, Eigen::MatrixXd*);
 extern template NewtonReport dampedNewton<Eigen::SparseMatrix<double>>(const NewtonObjective<Eigen::SparseMatrix<double>>&,
                                                                        Eigen::VectorXd&, const NewtonOptions&,
-                                                                       const Eigen::SparseMatrix<double>*);
+                                                                       const Eigen::SparseMatrix<double>*,
+                                                                       Eigen::SparseMatrix<double>*);
 
 }  // namespace deformation_enrichment::shape_space

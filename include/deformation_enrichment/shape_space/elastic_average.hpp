@@ -33,6 +33,8 @@ struct AverageResult {
   double gradientNorm = 0.0;  ///< |gradient| at shape (reduced solver: of the reduced objective)
   /// Reduced solver only: q with shape = origin + basis q (lets a ghost-mesh solve be lifted to the fine mesh).
   Eigen::VectorXd reducedCoordinates;
+  /// Reduced solver only: its quasi-Newton model of the Hessian at the end (a warm start for a similar average).
+  Eigen::MatrixXd reducedModel;
   bool converged() const { return status != MinimiserStatus::NotConverged; }
 };
 

@@ -29,7 +29,9 @@ struct ReducedAverageOptions {
 struct ReducedSpace {
   Eigen::VectorXd origin;                        ///< n
   std::shared_ptr<const Eigen::MatrixXd> basis;  ///< n x d, orthonormal columns
-  Eigen::MatrixXd restHessian;                   ///< d x d reduced rest Hessian (+ small ridge), positive definite
+  /// d x d start model of the quasi-Newton solver: the reduced rest Hessian (+ small ridge), positive definite;
+  /// a caller may replace it by the model a similar average ended with (SmoothingFlow does, step to step).
+  Eigen::MatrixXd warmStart;
 
   Eigen::VectorXd lift(const Eigen::VectorXd& q) const { return origin + *basis * q; }
   Eigen::VectorXd coordinates(const Eigen::VectorXd& y) const { return basis->transpose() * (y - origin); }

@@ -127,8 +127,9 @@ private:
   Trial trialStep(double tau) const;
   /// Per shape (evaluation space) its reference data for the reduced eq. 10 averages; empty otherwise.
   ReferenceDataList referenceData(const std::vector<Eigen::VectorXd>& shapes) const;
-  /// Makes `shapes` (with eq. 4 `controlled`) the current ones, each piece moved rigidly onto its input pose.
-  void accept(std::vector<Eigen::VectorXd> shapes, double controlled);
+  /// Makes the trial's shapes (with eq. 4 `controlled`) the current ones, each piece moved rigidly onto its
+  /// input pose, and its averages' final models the next step's warm starts.
+  void accept(Trial trial, double controlled);
   AverageResult averageAt(int i, double tau, const std::vector<Eigen::VectorXd>& x,
                           const std::vector<Eigen::VectorXd>& input, const ReferenceDataList& xData) const;
   double controlledPathEnergy(const std::vector<Eigen::VectorXd>& shapes) const;
