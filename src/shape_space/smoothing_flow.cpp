@@ -226,18 +226,16 @@ AverageResult SmoothingFlow::averageAt(int i, double tau, const std::vector<Eige
   return result;
 }
 
-SmoothingFlow::Trial SmoothingFlow::trialStep(double tau) const {
+// x, input and xData: the current and input shapes in the evaluation space and x's reference data.
+SmoothingFlow::Trial SmoothingFlow::trialStep(double tau, const std::vector<Eigen::VectorXd>& x,
+                                              const std::vector<Eigen::VectorXd>& input, const ReferenceDataList& xData) const {
   const int count = int(current_.shapes.size());
   // Jacobi: every average uses the previous iterate's neighbours, so the shapes are independent.
-  std::vector<Eigen::VectorXd> storage, inputStorage;
-  const std::vector<Eigen::VectorXd>& x = space_.restrict(current_.shapes, storage);
-  const std::vector<Eigen::VectorXd>& input = space_.restrict(input_.shapes, inputStorage);
   Trial trial;
   trial.shapes.resize(current_.shapes.size());  // the free shapes are filled below: copy only the fixed ones
   trial.models.resize(current_.shapes.size());
   for (int i = 0; i < count; ++i)
     if (!isFree(i)) trial.shapes[size_t(i)] = current_.shapes[size_t(i)];
-  const ReferenceDataList xData = referenceData(x);  // each shape serves as reference of up to 3 averages
   detail::parallelFor(count, parallelShapes(), [&](int i) {
     if (!isFree(i)) return;
     AverageResult result = averageAt(i, tau, x, input, xData);
@@ -288,9 +286,14 @@ FlowStep SmoothingFlow::step() {
   FlowStep fallback;
   Trial fallbackTrial;
   bool haveFallback = false;
+  // The same for every trial of this step: each shape is a reference of up to 3 averages in each.
+  std::vector<Eigen::VectorXd> storage, inputStorage;
+  const std::vector<Eigen::VectorXd>& x = space_.restrict(current_.shapes, storage);
+  const std::vector<Eigen::VectorXd>& input = space_.restrict(input_.shapes, inputStorage);
+  const ReferenceDataList xData = referenceData(x);
   double tau = options_.tau;
   for (int halving = 0; halving <= options_.maxTauHalvings; ++halving, tau *= 0.5) {
-    Trial trial = trialStep(tau);
+    Trial trial = trialStep(tau, x, input, xData);
     double after = std::numeric_limits<double>::infinity();
     try {
       if (space_.ghost())  // a ghost solve lifted to the fine mesh may collapse a fine triangle: step too long

@@ -124,7 +124,8 @@ public:
 private:
   struct Trial;
   using ReferenceDataList = std::vector<std::shared_ptr<const ReferenceData>>;
-  Trial trialStep(double tau) const;
+  Trial trialStep(double tau, const std::vector<Eigen::VectorXd>& x, const std::vector<Eigen::VectorXd>& input,
+                  const ReferenceDataList& xData) const;
   /// Per shape (evaluation space) its reference data for the reduced eq. 10 averages; empty otherwise.
   ReferenceDataList referenceData(const std::vector<Eigen::VectorXd>& shapes) const;
   /// Makes the trial's shapes (with eq. 4 `controlled`) the current ones, each piece moved rigidly onto its
