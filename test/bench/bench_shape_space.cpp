@@ -274,7 +274,9 @@ void smoothingRun(benchmark::State& state, bool md2) {
   state.counters["monotone"] = c.monotone ? 1 : 0;
   state.counters["roughness_ratio"] = c.roughnessAfter / c.roughnessBefore;
   state.counters["trajectory_roughness_ratio"] = c.trajectoryAfter / c.trajectoryBefore;
-  state.counters["filter_sigma"] = c.sigma;
+  state.counters["filter_sigma"] = c.filterTuning.sigma;
+  state.counters["filter_reaches_flow"] = c.filterTuning.reached ? 1 : 0;
+  state.counters["compared_step"] = c.comparedStep;
   state.counters["edge_change_flow"] = c.flow.edge;
   state.counters["edge_change_filter"] = c.filter.edge;
   state.counters["volume_change_flow"] = c.flow.volume;

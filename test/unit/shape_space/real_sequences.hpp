@@ -185,16 +185,41 @@ inline Shapes gaussianFilter(const Shapes& x, double sigma) {
   return out;
 }
 
-/// The narrowest filter (standard deviation in frames, bisection in log sigma over [0.05, 20]) whose output
-/// is as smooth as `target` by `roughness`; 20 if even that stays rougher.
+/// The filter width (standard deviation in frames, within [0.05, 20]) that a comparison at equal roughness uses.
+struct FilterTuning {
+  double sigma = 0.0;
+  bool reached = false;  ///< the filter at sigma is as smooth as the target; else sigma is its smoothest width
+  double roughness = 0.0;  ///< of the filtered sequence
+};
+
+/// The narrowest filter whose output is as smooth as `target` by `roughness` (the first of 41 log-spaced widths
+/// that is, refined by bisection against the one before), or, if no width is, the smoothest of them. With the
+/// end shapes fixed, the roughness is not monotone in sigma: a 6-frame clip is smoothest near 1.5 frames and
+/// 1.5x rougher at 20, where the interior shapes approach their mean.
 template <class Roughness>
-double sigmaForRoughness(const Shapes& x, double target, const Roughness& roughness) {
-  double lo = 0.05, hi = 20.0;
-  for (int it = 0; it < 40; ++it) {
-    const double mid = std::sqrt(lo * hi);
-    (roughness(gaussianFilter(x, mid)) > target ? lo : hi) = mid;
+FilterTuning tuneFilter(const Shapes& x, double target, const Roughness& roughness) {
+  constexpr int kWidths = 41;
+  constexpr double kNarrowest = 0.05, kWidest = 20.0;
+  FilterTuning smoothest;
+  double previous = kNarrowest;
+  for (int k = 0; k < kWidths; ++k) {
+    const double sigma = kNarrowest * std::pow(kWidest / kNarrowest, double(k) / (kWidths - 1));
+    const double r = roughness(gaussianFilter(x, sigma));
+    if (r <= target) {
+      FilterTuning tuning{sigma, true, r};
+      double lo = previous;
+      for (int it = 0; it < 30 && k > 0; ++it) {
+        const double mid = std::sqrt(lo * tuning.sigma);
+        const double rMid = roughness(gaussianFilter(x, mid));
+        if (rMid <= target) tuning = {mid, true, rMid};
+        else lo = mid;
+      }
+      return tuning;
+    }
+    if (k == 0 || r < smoothest.roughness) smoothest = {sigma, false, r};
+    previous = sigma;
   }
-  return hi;
+  return smoothest;
 }
 
 struct Distortion {
@@ -241,23 +266,31 @@ inline FlowOptions captureSmoothing() {
   return options;
 }
 
-/// One smoothing run next to the Gaussian filter tuned to the same (intrinsic) roughness.
+/// One smoothing run next to the Gaussian filter at the same (intrinsic) roughness.
 struct FilterComparison {
   std::vector<double> pathEnergy;  ///< eq. 4 (fine mesh) of the input and after every accepted step
   int accepted = 0, unconverged = 0;
   bool monotone = true;            ///< eq. 4 fell at every accepted step
-  double roughnessBefore = 0.0, roughnessAfter = 0.0;  ///< intrinsic
+  double roughnessBefore = 0.0, roughnessAfter = 0.0;  ///< intrinsic, of the input and the flow's result
   double trajectoryBefore = 0.0, trajectoryAfter = 0.0;
-  double sigma = 0.0;              ///< the filter's width (frames)
-  Distortion flow, filter;         ///< against the input
-  double flowSeconds = 0.0, filterSeconds = 0.0;  ///< the filter's: one pass at sigma (the tuning not counted)
+  FilterTuning filterTuning;       ///< the filter compared (tuneFilter to the result's roughness)
+  /// The flow's step compared with it: the last, if the filter is as smooth as the result; else the first
+  /// step as smooth as the smoothest filter (the flow then is at least as smooth as the filter it is held to).
+  int comparedStep = 0;
+  double comparedRoughness = 0.0;  ///< the flow's at that step
+  Distortion flow, filter;         ///< at that step and that width, against the input
+  Distortion flowResult;           ///< of the flow's result, against the input
+  double flowSeconds = 0.0, filterSeconds = 0.0;  ///< the filter's: one pass (the tuning not counted)
   Shapes smoothed;
 };
 
 /// Smooths `input` with GOAST's energy (bending for its size) and the given options for `steps` steps (the
-/// run ends at a stalled step), then tunes the filter to the result's intrinsic roughness.
+/// run ends at a stalled step), then compares it with the filter at equal roughness.
 inline FilterComparison compareWithFilter(const ShapeSequence& input, const FlowOptions& options, int steps) {
   FilterComparison c;
+  const auto intrinsic = [&](const Shapes& x) { return intrinsicRoughness(x, input.triangles); };
+  std::vector<Shapes> iterates;  // after every accepted step
+  double untimed = 0.0;          // copying the iterates is the test's, not the flow's
   const auto start = std::chrono::steady_clock::now();
   DiscreteShells energy(input.triangles, input.numVertices(), DiscreteShellsParameters::hyperelasticFor(input.shapes.front()));
   SmoothingFlow flow(energy, input, options);
@@ -269,19 +302,34 @@ inline FilterComparison compareWithFilter(const ShapeSequence& input, const Flow
     c.unconverged += step.unconvergedAverages;
     c.pathEnergy.push_back(flow.pathEnergy());
     c.monotone = c.monotone && c.pathEnergy.back() < c.pathEnergy[c.pathEnergy.size() - 2];
+    const auto copyStart = std::chrono::steady_clock::now();
+    iterates.push_back(flow.current().shapes);
+    untimed += std::chrono::duration<double>(std::chrono::steady_clock::now() - copyStart).count();
   }
-  c.flowSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  c.smoothed = flow.current().shapes;
-  const auto intrinsic = [&](const Shapes& x) { return intrinsicRoughness(x, input.triangles); };
+  c.flowSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - untimed;
+  c.smoothed = iterates.empty() ? input.shapes : iterates.back();
   c.roughnessBefore = intrinsic(input.shapes);
   c.roughnessAfter = intrinsic(c.smoothed);
   c.trajectoryBefore = trajectoryRoughness(input.shapes);
   c.trajectoryAfter = trajectoryRoughness(c.smoothed);
-  c.sigma = sigmaForRoughness(input.shapes, c.roughnessAfter, intrinsic);
+  c.filterTuning = tuneFilter(input.shapes, c.roughnessAfter, intrinsic);
   const auto filterStart = std::chrono::steady_clock::now();
-  const Shapes filtered = gaussianFilter(input.shapes, c.sigma);
+  const Shapes filtered = gaussianFilter(input.shapes, c.filterTuning.sigma);
   c.filterSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - filterStart).count();
-  c.flow = distortion(input.shapes, c.smoothed, input.triangles);
+  c.comparedStep = c.accepted;
+  c.comparedRoughness = c.roughnessAfter;
+  if (!c.filterTuning.reached) {
+    for (int k = 1; k <= c.accepted; ++k) {
+      const double r = intrinsic(iterates[size_t(k - 1)]);
+      if (r <= c.filterTuning.roughness) {
+        c.comparedStep = k;
+        c.comparedRoughness = r;
+        break;
+      }
+    }
+  }
+  c.flowResult = distortion(input.shapes, c.smoothed, input.triangles);
+  c.flow = c.comparedStep == 0 ? Distortion{} : distortion(input.shapes, iterates[size_t(c.comparedStep - 1)], input.triangles);
   c.filter = distortion(input.shapes, filtered, input.triangles);
   return c;
 }

@@ -4,15 +4,16 @@
 //    the bounding-box diagonal, and a closed mesh of [CGAL-data] bent by a known smooth field with 0.2 %
 //    noise, each must finish (after 3 steps every step accepted), lower eq. 4 at every step and make the
 //    shapes' motion smoother (intrinsic temporal roughness, rigid-invariant like the energy);
-//  - [Brandt16 Fig. 8]: over all clips the per-vertex Gaussian trajectory filter, tuned to the same
-//    smoothness, changes edge lengths and volume more than the flow; after 3 steps it changes the volume
-//    more on every clip where it needs "a lot of filtering" (a kernel of at least 1.5 frames);
+//  - [Brandt16 Fig. 8]: over all clips the per-vertex Gaussian trajectory filter at the same smoothness
+//    (compareWithFilter) changes edge lengths and volume more than the flow; after 3 steps it changes the
+//    volume more on every clip where it needs "a lot of filtering" (a kernel of at least 1.5 frames);
 //  - the near-static clips ("stand", "crstnd": 19 and 40 frames) smooth to a tenth of their roughness. With
 //    16 subspace directions (kSmoothingSubspaceDimension's former value) they kept x0.16-0.78 of it and
 //    distorted more than the filter; now the subspace holds every frame's own noise.
 // The short run (CI) takes 3 steps per clip at one noise level each (0.1 .. 0.5 % in turn); DE_LONG_TESTS=1
-// runs 10 steps per clip at every level, where the per-clip volume claim is not asserted: 2 of the 160 runs
-// (6- and 9-frame clips at low noise) end with up to 8 % more volume change than the widest filter.
+// runs 10 steps per clip at every level, where the per-clip claims are not asserted: the flow changes the
+// volume more on 4 of the 160 runs (faerie attack at 0.1-0.3 %, up to 21 % more; faerie crattak at 0.3 %,
+// 1 % more) and the edge lengths on 11 (all five levels of faerie attack, up to 28 % more).
 // A step may stall (no tau lowers eq. 4: smoothing and restoring force balance); the run then ends there.
 #include <gtest/gtest.h>
 
@@ -37,17 +38,19 @@ bool longRun() { return std::getenv("DE_LONG_TESTS") != nullptr; }
 // The per-clip invariants; returns the comparison for the aggregate checks.
 FilterComparison checkRun(const ss::ShapeSequence& input, int steps, const std::string& name) {
   const FilterComparison c = compareWithFilter(input, captureSmoothing(), steps);
-  std::printf("%-22s %2zu fr %5ld v | eq.4 %.4g -> %.4g | roughness x%.3f (trajectories x%.3f) | sigma %5.2f | "
-              "edge %.4f vs %.4f, volume %.4f vs %.4f | %.2f s vs %.4f s\n",
+  std::printf("%-22s %2zu fr %5ld v | eq.4 %.4g -> %.4g | roughness x%.3f (trajectories x%.3f) | filter sigma %5.2f%s "
+              "vs step %2d (x%.3f vs x%.3f) | edge %.4f vs %.4f, volume %.4f vs %.4f | %.2f s vs %.4f s\n",
               name.c_str(), input.shapes.size(), long(input.numVertices()), c.pathEnergy.front(), c.pathEnergy.back(),
-              c.roughnessAfter / c.roughnessBefore, c.trajectoryAfter / c.trajectoryBefore, c.sigma, c.flow.edge,
-              c.filter.edge, c.flow.volume, c.filter.volume, c.flowSeconds, c.filterSeconds);
+              c.roughnessAfter / c.roughnessBefore, c.trajectoryAfter / c.trajectoryBefore, c.filterTuning.sigma,
+              c.filterTuning.reached ? "" : " (smoothest)", c.comparedStep, c.comparedRoughness / c.roughnessBefore,
+              c.filterTuning.roughness / c.roughnessBefore, c.flow.edge, c.filter.edge, c.flow.volume, c.filter.volume,
+              c.flowSeconds, c.filterSeconds);
   EXPECT_GE(c.accepted, longRun() ? 1 : steps) << name << ": a step stalled";
   EXPECT_EQ(c.unconverged, 0) << name;
   EXPECT_TRUE(c.monotone) << name << ": eq. 4 did not fall at every step";
   EXPECT_LT(c.roughnessAfter, c.roughnessBefore) << name;
-  if (!longRun() && c.sigma >= kLotOfFiltering) {
-    EXPECT_LT(c.flow.volume, c.filter.volume) << name << " (sigma " << c.sigma << ")";
+  if (!longRun() && c.filterTuning.sigma >= kLotOfFiltering) {
+    EXPECT_LT(c.flow.volume, c.filter.volume) << name << " (sigma " << c.filterTuning.sigma << ")";
   }
   return c;
 }
@@ -103,7 +106,7 @@ TEST_F(BentCgalMesh, SmoothsLikeTheClips) {
   const ss::ShapeSequence input = bent(12);
   ss::validateSequence(input, 3);
   const FilterComparison c = checkRun(input, longRun() ? 10 : 3, "elephant bent 2e-3");
-  EXPECT_GT(c.sigma, kLotOfFiltering);  // a smooth bend with noise: the filter needs a wide kernel
+  EXPECT_GT(c.filterTuning.sigma, kLotOfFiltering);  // a smooth bend with noise: the filter needs a wide kernel
 }
 
 // A longer moving sequence (40 frames, more than the 16 directions of the former subspace default): with 16
