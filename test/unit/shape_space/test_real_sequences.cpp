@@ -134,6 +134,28 @@ TEST_F(BentCgalMesh, LaterStepsStartFromThePreviousModels) {
   EXPECT_LT(iterations[3], 0.75 * iterations[0]);
 }
 
+// The filter the flow is held to: with the end shapes fixed, a short clip's filtered roughness falls and then
+// rises with the width (the interior shapes approach their mean), so "the widest filter" is not the smoothest;
+// the comparison must use the narrowest width as smooth as the target, else the smoothest one.
+TEST(RealSequences, FilterTuningIsTheNarrowestWidthAsSmoothOrElseTheSmoothest) {
+  const de::mesh::Md2Animation anim = de::mesh::readMd2(std::string(kMd2Directory) + "sydney.md2");
+  const ss::ShapeSequence input = noisyClip(anim, Clip{"crwalk", 154, 159}, 0.003, 21);
+  const auto roughness = [&](const Shapes& x) { return intrinsicRoughness(x, input.triangles); };
+  const double widest = roughness(gaussianFilter(input.shapes, 20.0));
+  const FilterTuning smoothest = tuneFilter(input.shapes, 0.0, roughness);
+  EXPECT_FALSE(smoothest.reached);
+  EXPECT_LT(smoothest.sigma, 5.0);
+  EXPECT_LT(smoothest.roughness, 0.9 * widest);
+  EXPECT_NEAR(smoothest.roughness, roughness(gaussianFilter(input.shapes, smoothest.sigma)), 1e-9 * smoothest.roughness);
+
+  const double target = 2.0 * smoothest.roughness;  // reachable: the narrowest width with at most this roughness
+  const FilterTuning narrowest = tuneFilter(input.shapes, target, roughness);
+  EXPECT_TRUE(narrowest.reached);
+  EXPECT_LE(narrowest.roughness, target);
+  EXPECT_LT(narrowest.sigma, smoothest.sigma);
+  EXPECT_GT(roughness(gaussianFilter(input.shapes, 0.99 * narrowest.sigma)), target);
+}
+
 TEST(RealSequences, DegenerateFramesOfRealDataAreRejected) {
   // sydney.md2's frame 28 has zero-area triangles after 8-bit quantisation.
   const de::mesh::Md2Animation anim = de::mesh::readMd2(std::string(kMd2Directory) + "sydney.md2");
