@@ -279,7 +279,6 @@ struct FilterComparison {
   int comparedStep = 0;
   double comparedRoughness = 0.0;  ///< the flow's at that step
   Distortion flow, filter;         ///< at that step and that width, against the input
-  Distortion flowResult;           ///< of the flow's result, against the input
   double flowSeconds = 0.0, filterSeconds = 0.0;  ///< the filter's: one pass (the tuning not counted)
   Shapes smoothed;
 };
@@ -328,7 +327,6 @@ inline FilterComparison compareWithFilter(const ShapeSequence& input, const Flow
       }
     }
   }
-  c.flowResult = distortion(input.shapes, c.smoothed, input.triangles);
   c.flow = c.comparedStep == 0 ? Distortion{} : distortion(input.shapes, iterates[size_t(c.comparedStep - 1)], input.triangles);
   c.filter = distortion(input.shapes, filtered, input.triangles);
   return c;
