@@ -4,6 +4,7 @@
 #include <memory>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <Eigen/SparseCore>
 
 #include "deformation_enrichment/error.hpp"
@@ -20,19 +21,34 @@ ReducedSpace makeReducedSpace(const DeformationEnergy& energy, Eigen::VectorXd o
   ReducedSpace space;
   space.origin = std::move(origin);
   space.basis = std::move(basis);
+  // Rigid motions inside the subspace make the reduced Hessian singular. The ridge must not be tiny: the
+  // objective's rigid null space sits at the unknown shape, not at the reference, and a near-singular warm
+  // start would blow those slightly different directions up (measured: 1e-8 stalls the quasi-Newton solver,
+  // 1e-3 converges).
   const Eigen::SparseMatrix<double> h = energy.hessianDeformed(reference, reference);
   const Eigen::MatrixXd& b = *space.basis;
   Eigen::MatrixXd hr = b.transpose() * (h * b);
   hr = 0.5 * (hr + hr.transpose());
-  // Rigid motions inside the subspace make hr singular. The ridge must not be tiny: the objective's rigid
-  // null space sits at the unknown shape, not at the reference, and a near-singular warm start would
-  // blow those slightly different directions up (measured: 1e-8 stalls the quasi-Newton solver, 1e-3 converges).
-  const double ridge = ridgeFactor * std::max(hr.diagonal().cwiseAbs().mean(), 1e-300);
-  hr.diagonal().array() += ridge;
+  hr.diagonal().array() += ridgeFactor * std::max(hr.diagonal().cwiseAbs().mean(), 1e-300);
   if (Eigen::LLT<Eigen::MatrixXd>(hr).info() != Eigen::Success)
     throw NumericalError("reduced space: the reduced rest Hessian is not positive definite");
   space.warmStart = std::move(hr);
   return space;
+}
+
+void setWarmStart(ReducedSpace& space, const Eigen::SparseMatrix<double>& hessian, double ridgeFactor) {
+  const Eigen::MatrixXd& b = *space.basis;
+  if (hessian.rows() != b.rows() || hessian.cols() != b.rows())
+    throw InvalidInputError("reduced space: the Hessian and the subspace differ in size");
+  Eigen::MatrixXd hr = b.transpose() * (hessian * b);
+  hr = 0.5 * (hr + hr.transpose());
+  if (!hr.allFinite()) throw NumericalError("reduced space: the reduced Hessian is not finite");
+  // Eigenvalue modification [Nocedal06 §3.4]: |lambda|, at least the ridge (the rigid null space).
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(hr);
+  const double ridge = ridgeFactor * std::max(hr.diagonal().cwiseAbs().mean(), 1e-300);
+  const Eigen::VectorXd modified = eigen.eigenvalues().cwiseAbs().cwiseMax(ridge);
+  space.warmStart = eigen.eigenvectors() * modified.asDiagonal() * eigen.eigenvectors().transpose();
+  space.warmStart = 0.5 * (space.warmStart + space.warmStart.transpose()).eval();
 }
 
 AverageResult reducedElasticAverage(const DeformationEnergy& energy, const std::vector<double>& weights,

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
 #include "deformation_enrichment/shape_space/deformation_energy.hpp"
 #include "deformation_enrichment/shape_space/elastic_average.hpp"
@@ -44,6 +45,12 @@ struct ReducedSpace {
 ReducedSpace makeReducedSpace(const DeformationEnergy& energy, Eigen::VectorXd origin,
                               std::shared_ptr<const Eigen::MatrixXd> basis, const Eigen::VectorXd& reference,
                               double ridgeFactor = 1e-3);
+
+/// Sets space.warmStart to B^T hessian B made positive definite, e.g. from the Hessian of the objective the
+/// space will first be used for (which may be indefinite away from its minimum): each eigenvalue lambda
+/// becomes max(|lambda|, ridgeFactor times the mean |diagonal|). Throws InvalidInputError for a Hessian of
+/// the wrong size, NumericalError if it is not finite.
+void setWarmStart(ReducedSpace& space, const Eigen::SparseMatrix<double>& hessian, double ridgeFactor);
 
 /// Minimises eq. 10 (or eq. 1) over the subspace starting at the projection of `initial`. A run that does
 /// not converge returns its last iterate with status NotConverged (never a worse objective than the start).

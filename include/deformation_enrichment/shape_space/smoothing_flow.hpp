@@ -131,6 +131,9 @@ private:
   /// Makes the trial's shapes (with eq. 4 `controlled`) the current ones, each piece moved rigidly onto its
   /// input pose, and its averages' final models the next step's warm starts.
   void accept(Trial trial, double controlled);
+  struct AverageProblem;
+  AverageProblem averageProblem(int i, double tau, const std::vector<Eigen::VectorXd>& x,
+                                const std::vector<Eigen::VectorXd>& input, const ReferenceDataList& xData) const;
   AverageResult averageAt(int i, double tau, const std::vector<Eigen::VectorXd>& x,
                           const std::vector<Eigen::VectorXd>& input, const ReferenceDataList& xData) const;
   double controlledPathEnergy(const std::vector<Eigen::VectorXd>& shapes) const;
@@ -146,6 +149,7 @@ private:
   std::vector<std::vector<int>> pieces_;  ///< connected components of the mesh (each keeps its input pose)
   std::vector<ReducedSpace> spaces_;  ///< per shape (reduced mode), in the evaluation space
   ReferenceDataList inputData_;       ///< reduced mode with a restoring force: the inputs' reference data
+  ReferenceDataList currentData_;     ///< reduced mode: current_'s reference data until the next step uses it
   std::shared_ptr<const Eigen::MatrixXd> fineBasis_;  ///< reduced mode: the shared basis on the fine mesh
   std::vector<Eigen::VectorXd> fineOrigins_;          ///< reduced mode: shape i = fineOrigins_[i] + B q
   double lastControlled_ = -1.0;  ///< controlledPathEnergy() of current_ after a step (< 0: unknown)
