@@ -133,6 +133,7 @@ NewtonReport dampedNewton(const NewtonObjective<Matrix>& objective, Eigen::Vecto
   options.gradientSquaredTolerance = std::max(given.gradientSquaredTolerance, given.relativeGradientSquaredTolerance * g.squaredNorm());
   options.decrementTolerance = std::max(given.decrementTolerance, given.relativeDecrementTolerance * f);
   report.gradientSquaredThreshold = options.gradientSquaredTolerance;
+  const double fixedDecrementTolerance = options.decrementTolerance, start = f;
   Matrix h = initialModel ? *initialModel : objective.hessian(x);
   report.hessians += initialModel ? 0 : 1;
   bool fresh = initialModel == nullptr;  // h is the Hessian (model) at x, not an update
@@ -149,6 +150,7 @@ NewtonReport dampedNewton(const NewtonObjective<Matrix>& objective, Eigen::Vecto
   for (;;) {
     if (g.squaredNorm() <= options.gradientSquaredTolerance) return finish(MinimiserStatus::Converged);
     if (report.iterations >= options.maxIterations) return finish(MinimiserStatus::NotConverged);
+    options.decrementTolerance = std::max(fixedDecrementTolerance, given.progressDecrementTolerance * (start - f));
     Step step = searchStep(objective, x, f, g, h, cholesky, damping, options, report);
     if (step.outcome == StepOutcome::Converged) return finish(MinimiserStatus::Converged);
     if (step.outcome == StepOutcome::RoundOff) return finish(MinimiserStatus::RoundOff);

@@ -56,6 +56,8 @@ AverageResult reducedElasticAverage(const DeformationEnergy& energy, const std::
                                     const Eigen::VectorXd& initial, const ReducedAverageOptions& options,
                                     const std::vector<const ReferenceData*>& data) {
   if (initial.size() != space.origin.size()) throw InvalidInputError("reduced average: initial shape has the wrong size");
+  if (!(options.relativeTolerance >= 0.0 && options.progressTolerance >= 0.0 && options.absoluteTolerance >= 0.0))
+    throw InvalidInputError("reduced average: tolerances must be >= 0");
   const Eigen::MatrixXd& basis = *space.basis;
   const AverageObjective average(energy, weights, examples, options.symmetric, data);
   NewtonObjective<Eigen::MatrixXd> objective;
@@ -75,6 +77,7 @@ AverageResult reducedElasticAverage(const DeformationEnergy& energy, const std::
   newton.maxIterations = options.maxIterations;
   newton.quasiNewton = true;
   newton.relativeDecrementTolerance = options.relativeTolerance;
+  newton.progressDecrementTolerance = options.progressTolerance;
   newton.gradientSquaredTolerance = options.absoluteTolerance * options.absoluteTolerance;
   AverageResult result;
   const NewtonReport report = dampedNewton(objective, q, newton, &space.warmStart, &result.reducedModel);

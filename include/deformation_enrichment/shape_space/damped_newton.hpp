@@ -32,6 +32,10 @@ struct NewtonOptions {
   /// evaluated the start itself would pay that evaluation twice); the larger of each pair applies.
   double relativeGradientSquaredTolerance = 0.0;  ///< |g|^2 <= this * |g(start)|^2
   double relativeDecrementTolerance = 0.0;        ///< -g.d <= this * f(start)
+  /// Or when -g.d <= this * (f(start) - f): the remaining gap (about half the decrement) is small next to
+  /// the decrease made, so the iterate's error is small next to its distance from the start (a rule that
+  /// tightens by itself where a problem starts near its minimiser).
+  double progressDecrementTolerance = 0.0;
   const char* name = "damped Newton";             ///< the solver named in errors
   /// Dense problems: between Hessians, update the model by BFGS (kept positive definite by skipping pairs
   /// with s.y <= 0); a new Hessian is taken only when the model yields no descent step.

@@ -51,6 +51,29 @@ TEST(DampedNewton, NewtonAndBfgsReachTheRosenbrockMinimum) {
   }
 }
 
+// The progress rule stops once the remaining gap is small next to the decrease made: earlier than the
+// gradient rule, with the gap (f - 0 at Rosenbrock's minimum) within that bound.
+TEST(DampedNewton, TheProgressRuleStopsWhenTheGapIsSmallNextToTheDecrease) {
+  for (bool quasi : {false, true}) {
+    const MatrixXd identity = MatrixXd::Identity(2, 2);
+    ss::NewtonOptions options;
+    options.maxIterations = 500;
+    options.gradientSquaredTolerance = 1e-20;
+    options.quasiNewton = quasi;
+    VectorXd tight = Eigen::Vector2d(-1.2, 1.0);
+    const ss::NewtonReport full = ss::dampedNewton(rosenbrock(), tight, options, quasi ? &identity : nullptr);
+    options.progressDecrementTolerance = 1e-4;
+    VectorXd x = Eigen::Vector2d(-1.2, 1.0);
+    const double start = rosenbrock().evaluate(x, nullptr);
+    const ss::NewtonReport r = ss::dampedNewton(rosenbrock(), x, options, quasi ? &identity : nullptr);
+    EXPECT_EQ(r.status, ss::MinimiserStatus::Converged) << "quasi " << quasi;
+    EXPECT_LT(r.iterations, full.iterations) << "quasi " << quasi;
+    EXPECT_LE(r.decrement, 1e-4 * (start - r.value)) << "quasi " << quasi;
+    EXPECT_GT(r.value, 0.0);
+    EXPECT_LT(r.value, 1e-4 * (start - r.value)) << "quasi " << quasi;  // the gap: the minimum is 0
+  }
+}
+
 TEST(DampedNewton, AnIndefiniteHessianIsDampedIntoADescentStep) {
   // f = x^4 / 4 - x^2 / 2 starts at a maximum's flank (f'' < 0) and must still descend to x = 1.
   ss::NewtonObjective<MatrixXd> f;
