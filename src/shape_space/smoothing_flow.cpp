@@ -55,6 +55,7 @@ struct SmoothingFlow::Trial {
   int iterations = 0;
   int unconverged = 0;
   double unconvergedGradientNorm = 0.0;
+  bool collapsed = false;  // a ghost solve lifted to the fine mesh collapsed a fine triangle: step too long
 };
 
 SmoothingFlow::SmoothingFlow(const DeformationEnergy& energy, ShapeSequence input, FlowOptions options)
@@ -269,10 +270,17 @@ SmoothingFlow::Trial SmoothingFlow::trialStep(double tau, const std::vector<Eige
   detail::parallelFor(count, parallelShapes(), [&](int i) {
     if (!isFree(i)) return;
     AverageResult result = averageAt(i, tau, x, input, xData);
+    bool collapsed = false;
+    try {  // checked here, while the lifted shape is in this core's cache
+      if (space_.ghost()) energy_.checkShape(result.shape);
+    } catch (const InvalidInputError&) {
+      collapsed = true;
+    }
     trial.shapes[size_t(i)] = std::move(result.shape);
     trial.models[size_t(i)] = std::move(result.reducedModel);
 #pragma omp critical(de_flow_trial)
     {
+      trial.collapsed = trial.collapsed || collapsed;
       trial.iterations += result.iterations;
       if (!result.converged()) {
         ++trial.unconverged;
@@ -327,11 +335,7 @@ FlowStep SmoothingFlow::step() {
     Trial trial = trialStep(tau, x, input, xData);
     double after = std::numeric_limits<double>::infinity();
     try {
-      if (space_.ghost())  // a ghost solve lifted to the fine mesh may collapse a fine triangle: step too long
-        detail::parallelFor(int(trial.shapes.size()), parallelShapes(), [&](int i) {
-          if (isFree(i)) energy_.checkShape(trial.shapes[size_t(i)]);
-        });
-      after = controlledPathEnergy(trial.shapes);
+      if (!trial.collapsed) after = controlledPathEnergy(trial.shapes);
     } catch (const InvalidInputError&) {
     }
     FlowStep report;
