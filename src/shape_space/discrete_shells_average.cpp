@@ -193,19 +193,20 @@ public:
       const auto x = gatherCorners<3>(y, v);
       const std::array<Eigen::Vector3d, 3> e{x[1] - x[2], x[2] - x[0], x[0] - x[1]};  // edge m opposite corner m
       const Eigen::Vector3d normal = e[2].cross(-e[1]);                                 // (x1 - x0) x (x2 - x0)
-      const double doubleArea = normal.norm();
       const double q[3] = {e[0].squaredNorm(), e[1].squaredNorm(), e[2].squaredNorm()};
-      if (!(doubleArea > 2.0 * kDegenerateAreaRatio * (q[0] + q[1] + q[2])))
+      // Squared forms: the hyperelastic terms need no square root (|n| > 2 r sum q as |n|^2 > (2 r sum q)^2).
+      const double doubleAreaSquared = normal.squaredNorm(), bound = 2.0 * kDegenerateAreaRatio * (q[0] + q[1] + q[2]);
+      if (!(doubleAreaSquared > bound * bound))
         throw InvalidInputError("DiscreteShells: triangle " + std::to_string(t) + " of the deformed shape is degenerate");
       const Face& f = faces_[size_t(t)];
-      const double area = 0.5 * doubleArea, areaSquared = area * area;
+      const double areaSquared = 0.25 * doubleAreaSquared;
       double dArea2 = 0.0;  // d value / d(A^2)
-      if (hyperelastic_) {  // sum_m C_m q_m + D A^2 - S log(A / scale) + const (header)
+      if (hyperelastic_) {  // sum_m C_m q_m + D A^2 - S/2 log(A^2 / scale^2) + const (header)
         value += f.linear[0] * q[0] + f.linear[1] * q[1] + f.linear[2] * q[2] + f.quadratic * areaSquared -
-                 f.logarithmic * std::log(area / f.scale) + f.constant;
+                 0.5 * f.logarithmic * std::log(areaSquared / (f.scale * f.scale)) + f.constant;
         dArea2 = f.quadratic - 0.5 * f.logarithmic / areaSquared;
       } else {  // k_A a (A - A_star)^2 + const
-        const double excess = area - f.linear[0];
+        const double area = std::sqrt(areaSquared), excess = area - f.linear[0];
         value += f.quadratic * excess * excess + f.constant;
         dArea2 = f.quadratic * excess / area;  // d/d(A^2) of (A - A_star)^2 = (A - A_star) / A
       }
