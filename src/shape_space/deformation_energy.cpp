@@ -87,4 +87,6 @@ std::unique_ptr<WeightedReferenceEnergy> DeformationEnergy::weightedReferences(
 
 std::shared_ptr<const ReferenceData> DeformationEnergy::referenceData(const Eigen::VectorXd&) const { return nullptr; }
 
+std::optional<double> DeformationEnergy::pathEnergy(const std::vector<const ReferenceData*>&, bool) const { return std::nullopt; }
+
 }  // namespace deformation_enrichment::shape_space

@@ -24,6 +24,7 @@
 #include "deformation_enrichment/shape_space/dihedral_angle.hpp"
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
 #include "shell_elements.hpp"
+#include "shell_path_terms.hpp"
 
 namespace deformation_enrichment::shape_space {
 namespace {
@@ -47,61 +48,18 @@ bool degenerate(const std::array<Eigen::Vector3d, 3>& x) {
   return !(doubleArea > 2.0 * kDegenerateAreaRatio * (q[0] + q[1] + q[2]));
 }
 
-// What the aggregation reads of one reference: per face its squared edge lengths (edge m opposite corner m)
-// and area, per hinge its angle and weight (without bendingWeight; the weight's factor depends on the
-// membrane), per edge its length (classic membrane).
-struct ShellReference final : ReferenceData {
-  MembraneModel membrane = MembraneModel::Hyperelastic;
-  std::vector<std::array<double, 4>> faces;
-  std::vector<std::array<double, 2>> hinges;
-  std::vector<double> edgeLengths;
-};
-
-// The area of face t as the single terms compute it (|n| / 2); throws if it is degenerate.
-double referenceArea(const std::array<Eigen::Vector3d, 3>& x, const std::array<double, 3>& q, Eigen::Index t) {
-  const double doubleArea = (x[1] - x[0]).cross(x[2] - x[0]).norm();
-  if (!(doubleArea > 2.0 * kDegenerateAreaRatio * (q[0] + q[1] + q[2])))
-    throw InvalidInputError("DiscreteShells: triangle " + std::to_string(t) + " of a reference shape is degenerate");
-  return 0.5 * doubleArea;
-}
+using detail::ShellReference;
 
 ShellReference shellReference(const DiscreteShells& shells, const Eigen::VectorXd& ref) {
-  const DiscreteShellsParameters& p = shells.parameters();
   ShellReference r;
-  r.membrane = p.membrane;
-  r.faces.resize(size_t(shells.numTriangles()));
-  for (Eigen::Index t = 0; t < shells.numTriangles(); ++t) {
-    const auto x = gatherCorners<3>(ref, shells.triangles().col(t));
-    const std::array<double, 3> q = squaredLengths(x);
-    r.faces[size_t(t)] = {q[0], q[1], q[2], referenceArea(x, q, t)};
-  }
-  if (p.membrane != MembraneModel::Hyperelastic) {
-    r.edgeLengths.resize(shells.edges().size());
-    for (size_t e = 0; e < shells.edges().size(); ++e)
-      r.edgeLengths[e] = (ref.segment<3>(3 * shells.edges()[e][0]) - ref.segment<3>(3 * shells.edges()[e][1])).norm();
-  }
-  if (p.bendingWeight > 0.0) {
-    const double hingeFactor = p.membrane == MembraneModel::Hyperelastic ? 1.0 : 3.0;
-    r.hinges.resize(shells.hinges().size());
-    for (size_t h = 0; h < shells.hinges().size(); ++h) {
-      const auto x = gatherCorners<4>(ref, shells.hinges()[h]);
-      r.hinges[h] = {dihedralAngle(x[0], x[1], x[2], x[3]), detail::hingeWeightAndGradient(x, hingeFactor, nullptr)};
-    }
-  }
+  r.membrane = shells.parameters().membrane;
+  detail::ShellPathTerms(shells).prepare(ref, "a reference shape", false, r.elements);
   return r;
-}
-
-// Data made by referenceData() of an energy with this mesh and membrane, and bending where this one bends.
-bool fitsThisEnergy(const ShellReference& r, const DiscreteShells& shells) {
-  const DiscreteShellsParameters& p = shells.parameters();
-  return r.membrane == p.membrane && r.faces.size() == size_t(shells.numTriangles()) &&
-         r.edgeLengths.size() == (p.membrane == MembraneModel::Hyperelastic ? 0 : shells.edges().size()) &&
-         (!(p.bendingWeight > 0.0) || r.hinges.size() == shells.hinges().size());
 }
 
 class ShellWeightedReferences final : public WeightedReferenceEnergy {
 public:
-  // data[i] (if given and not null) is shellReference(shells, *references[i]).
+  // data[i] (if given and not null) is shells.referenceData(*references[i]).
   ShellWeightedReferences(const DiscreteShells& shells, const std::vector<double>& weights,
                           const std::vector<const Eigen::VectorXd*>& references, const std::vector<const ShellReference*>& data)
       : shells_(shells), hyperelastic_(shells.parameters().membrane == MembraneModel::Hyperelastic) {
@@ -118,7 +76,7 @@ public:
     for (size_t i = 0; i < references.size(); ++i) {
       if (weights[i] == 0.0) continue;
       used[i] = data.empty() ? nullptr : data[i];
-      if (!used[i]) used[i] = &computed.emplace_back(shellReference(shells, *references[i]));
+      if (!used[i]) used[i] = &computed.emplace_back(shellReference(shells, *references[i]));  // (references checked)
     }
     bool first = true;
     for (size_t i = 0; i < references.size(); ++i) {
@@ -126,8 +84,8 @@ public:
       if (w == 0.0) continue;
       const ShellReference& ref = *used[i];
       for (Eigen::Index t = 0; t < numTriangles; ++t) {
-        const std::array<double, 4>& r = ref.faces[size_t(t)];  // q_0, q_1, q_2, area
-        const double area = r[3];
+        const std::array<double, 3>& r = ref.elements.faces[size_t(t)].q;
+        const double area = ref.elements.faces[size_t(t)].area;
         Face& f = faces_[size_t(t)];
         if (hyperelastic_) {
           const double c = 0.5 * p.mu / (8.0 * area);
@@ -148,16 +106,16 @@ public:
       if (!hyperelastic_) {
         for (size_t e = 0; e < edges_.size(); ++e) {  // k_L (l - l_bar)^2 / l_bar, as the faces
           edges_[e].linear += w;
-          edges_[e].quadratic += w / ref.edgeLengths[e];
+          edges_[e].quadratic += w / ref.elements.edges[e].length;
         }
       }
       if (p.bendingWeight > 0.0) {
         for (size_t h = 0; h < hinges_.size(); ++h) {
-          double theta = ref.hinges[h][0];
+          double theta = ref.elements.hinges[h].theta;
           // Unwrapped against the first example so that hinges near +-pi aggregate consistently.
           if (first) thetaFirst[h] = theta;
           else theta = thetaFirst[h] + detail::wrappedAngle(theta - thetaFirst[h]);
-          const double omega = w * p.bendingWeight * ref.hinges[h][1];
+          const double omega = w * p.bendingWeight * ref.elements.hinges[h].weight;
           hinges_[h].omega += omega;
           omegaTheta[h] += omega * theta;
           omegaTheta2[h] += omega * (theta - thetaFirst[h]) * (theta - thetaFirst[h]);  // shifted: no cancellation
@@ -342,11 +300,11 @@ private:
       const double w = weights[i];
       if (w == 0.0) continue;
       for (Eigen::Index t = 0; t < shells_.numTriangles(); ++t) {
-        const double area = references[i]->faces[size_t(t)][3], excess = area - faces_[size_t(t)].linear[0];
+        const double area = references[i]->elements.faces[size_t(t)].area, excess = area - faces_[size_t(t)].linear[0];
         faces_[size_t(t)].constant += w * p.areaWeight * excess * excess / area;
       }
       for (size_t e = 0; e < edges_.size(); ++e) {
-        const double length = references[i]->edgeLengths[e], excess = length - edges_[e].linear;
+        const double length = references[i]->elements.edges[e].length, excess = length - edges_[e].linear;
         constant_ += w * p.lengthWeight * excess * excess / length;
       }
     }
@@ -401,15 +359,14 @@ std::unique_ptr<WeightedReferenceEnergy> DiscreteShells::weightedReferences(
   }
   std::vector<const ShellReference*> shellData(data.size(), nullptr);
   for (size_t i = 0; i < data.size(); ++i) {
-    shellData[i] = dynamic_cast<const ShellReference*>(data[i]);
-    if (data[i] && !(shellData[i] && fitsThisEnergy(*shellData[i], *this)))
+    shellData[i] = detail::shellReferenceOf(data[i], *this);
+    if (data[i] && !shellData[i])
       throw InvalidInputError("DiscreteShells: reference data " + std::to_string(i) + " is not of this energy");
   }
   return std::make_unique<ShellWeightedReferences>(*this, weights, references, shellData);
 }
 
 std::shared_ptr<const ReferenceData> DiscreteShells::referenceData(const Eigen::VectorXd& shape) const {
-  DeformationEnergy::checkShape(shape);
   return std::make_shared<const ShellReference>(shellReference(*this, shape));
 }
 

@@ -26,60 +26,15 @@
 #include "deformation_enrichment/shape_space/dihedral_angle.hpp"
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
 #include "shell_elements.hpp"
+#include "shell_path_terms.hpp"
 
 namespace deformation_enrichment::shape_space {
 
-class DiscreteShells::PathTerms {
-public:
-  struct Face {
-    std::array<double, 3> q;  // squared edge lengths, edge m opposite corner m
-    double area, logAreaSquared;
-  };
-  struct FaceDerivatives {
-    std::array<Eigen::Vector3d, 3> edges;  // e_m = x_m+1 - x_m+2: dq_m/dx_m+1 = 2 e_m = -dq_m/dx_m+2
-    Eigen::Vector3d halfNormal;            // n / (2 |n|): dA/dx_c = halfNormal x (-e_c)
-  };
-  struct Edge {
-    double length;
-    Eigen::Vector3d direction;  // (x_0 - x_1) / length = dl/dx_0 = -dl/dx_1
-  };
-  struct Hinge {
-    double theta, weight;  // weight: c |e|^2 / (A_1 + A_2), without the bending weight
-  };
-  struct HingeDerivatives {
-    Eigen::Matrix<double, 12, 1> theta, weight;
-  };
-  struct Shape {
-    std::vector<Face> faces;
-    std::vector<FaceDerivatives> faceDerivatives;  // with gradients only
-    std::vector<Edge> edges;                       // classic membrane only
-    std::vector<Hinge> hinges;                     // with bending only
-    std::vector<HingeDerivatives> hingeDerivatives;
-  };
-
-  explicit PathTerms(const DiscreteShells& shells) : shells_(shells) {}
-
-  // The element data of path shape k, with derivatives if asked; throws InvalidInputError for a wrong size,
-  // non-finite or degenerate shape.
-  void prepare(const Eigen::VectorXd& x, int k, bool derivatives, Shape& out) const;
-  // W(a, b) + W(b, a); adds its derivatives in a to ga and in b to gb where those are not null (the shape's
-  // data then has derivatives).
-  double segment(const Shape& a, const Shape& b, Eigen::VectorXd* ga, Eigen::VectorXd* gb) const;
-
-private:
-  bool classic() const { return shells_.parameters_.membrane == MembraneModel::DiscreteShells; }
-  bool bending() const { return shells_.parameters_.bendingWeight > 0.0; }
-  double faceTerms(const Shape& a, const Shape& b, Eigen::VectorXd* ga, Eigen::VectorXd* gb) const;
-  double edgeTerms(const Shape& a, const Shape& b, Eigen::VectorXd* ga, Eigen::VectorXd* gb) const;
-  double hingeTerms(const Shape& a, const Shape& b, Eigen::VectorXd* ga, Eigen::VectorXd* gb) const;
-  // Adds sum_m dq[m] dq_m/dx + dArea dA/dx of face t to g.
-  void addFaceGradient(Eigen::Index t, const FaceDerivatives& face, const std::array<double, 3>& dq, double dArea,
-                       Eigen::VectorXd& g) const;
-
-  const DiscreteShells& shells_;
-};
+using detail::ShellPathTerms;
 
 namespace {
+
+std::string pathShapeName(int k) { return "shape " + std::to_string(k) + " of the path"; }
 
 std::array<double, 3> cotangentWeights(const std::array<double, 3>& q) {  // 8 A^2 cot(angle m), from squared lengths
   return {q[1] + q[2] - q[0], q[2] + q[0] - q[1], q[0] + q[1] - q[2]};
@@ -87,7 +42,7 @@ std::array<double, 3> cotangentWeights(const std::array<double, 3>& q) {  // 8 A
 
 }  // namespace
 
-void DiscreteShells::PathTerms::prepare(const Eigen::VectorXd& x, int k, bool derivatives, Shape& out) const {
+void ShellPathTerms::prepare(const Eigen::VectorXd& x, const std::string& name, bool derivatives, Shape& out) const {
   shells_.DeformationEnergy::checkShape(x);  // size and finite entries
   const Eigen::Matrix3Xi& triangles = shells_.triangles_;
   out.faces.resize(size_t(triangles.cols()));
@@ -101,7 +56,7 @@ void DiscreteShells::PathTerms::prepare(const Eigen::VectorXd& x, int k, bool de
     Face& face = out.faces[size_t(t)];
     face.q = {e[0].squaredNorm(), e[1].squaredNorm(), e[2].squaredNorm()};
     if (!(doubleArea > 2.0 * detail::kDegenerateAreaRatio * (face.q[0] + face.q[1] + face.q[2])))
-      shells_.throwDegenerate(t, "shape " + std::to_string(k) + " of the path", 0.5 * doubleArea);
+      shells_.throwDegenerate(t, name, 0.5 * doubleArea);
     face.area = 0.5 * doubleArea;
     face.logAreaSquared = std::log(face.area * face.area);
     if (derivatives) out.faceDerivatives[size_t(t)] = {e, n / (2.0 * doubleArea)};
@@ -131,11 +86,11 @@ void DiscreteShells::PathTerms::prepare(const Eigen::VectorXd& x, int k, bool de
   }
 }
 
-double DiscreteShells::PathTerms::segment(const Shape& a, const Shape& b, Eigen::VectorXd* ga, Eigen::VectorXd* gb) const {
+double ShellPathTerms::segment(const Shape& a, const Shape& b, Eigen::VectorXd* ga, Eigen::VectorXd* gb) const {
   return faceTerms(a, b, ga, gb) + edgeTerms(a, b, ga, gb) + hingeTerms(a, b, ga, gb);
 }
 
-void DiscreteShells::PathTerms::addFaceGradient(Eigen::Index t, const FaceDerivatives& face, const std::array<double, 3>& dq,
+void ShellPathTerms::addFaceGradient(Eigen::Index t, const FaceDerivatives& face, const std::array<double, 3>& dq,
                                                 double dArea, Eigen::VectorXd& g) const {
   for (int corner = 0; corner < 3; ++corner) {
     const int m1 = (corner + 1) % 3, m2 = (corner + 2) % 3;
@@ -144,7 +99,7 @@ void DiscreteShells::PathTerms::addFaceGradient(Eigen::Index t, const FaceDeriva
   }
 }
 
-double DiscreteShells::PathTerms::faceTerms(const Shape& a, const Shape& b, Eigen::VectorXd* ga, Eigen::VectorXd* gb) const {
+double ShellPathTerms::faceTerms(const Shape& a, const Shape& b, Eigen::VectorXd* ga, Eigen::VectorXd* gb) const {
   const DiscreteShellsParameters& p = shells_.parameters_;
   const double kappa = 0.5 * p.mu + 0.25 * p.lambda, constant = p.mu + 0.25 * p.lambda;
   double value = 0.0;
@@ -184,7 +139,7 @@ double DiscreteShells::PathTerms::faceTerms(const Shape& a, const Shape& b, Eige
   return value;
 }
 
-double DiscreteShells::PathTerms::edgeTerms(const Shape& a, const Shape& b, Eigen::VectorXd* ga, Eigen::VectorXd* gb) const {
+double ShellPathTerms::edgeTerms(const Shape& a, const Shape& b, Eigen::VectorXd* ga, Eigen::VectorXd* gb) const {
   const double k = shells_.parameters_.lengthWeight;
   double value = 0.0;
   for (size_t i = 0; i < a.edges.size(); ++i) {  // k_L (l_a - l_b)^2 (1 / l_a + 1 / l_b)
@@ -207,7 +162,7 @@ double DiscreteShells::PathTerms::edgeTerms(const Shape& a, const Shape& b, Eige
   return value;
 }
 
-double DiscreteShells::PathTerms::hingeTerms(const Shape& a, const Shape& b, Eigen::VectorXd* ga, Eigen::VectorXd* gb) const {
+double ShellPathTerms::hingeTerms(const Shape& a, const Shape& b, Eigen::VectorXd* ga, Eigen::VectorXd* gb) const {
   const double k = shells_.parameters_.bendingWeight;
   double value = 0.0;
   for (size_t h = 0; h < a.hinges.size(); ++h) {  // k (w_a + w_b) d^2
@@ -236,7 +191,7 @@ std::vector<double> DiscreteShells::pathSegments(const std::vector<Eigen::Vector
   std::vector<double> values(size_t(segments), 0.0);
   if (gradients) gradients->assign(shapes.size(), Eigen::VectorXd::Zero(3 * numVertices_));
   const auto wanted = [&](int k) { return gradients && (closed || endGradients || (k > 0 && k + 1 < count)); };
-  const PathTerms terms(*this);
+  const ShellPathTerms terms(*this);
   // Each thread runs a contiguous run of segments, sliding over its shapes (two shapes' data at a time). The
   // first shape of a run also ends the previous run: its share from this run goes to a buffer, added below.
   std::vector<Eigen::VectorXd> firstShapeGradients(static_cast<size_t>(threads_));
@@ -253,15 +208,15 @@ std::vector<double> DiscreteShells::pathSegments(const std::vector<Eigen::Vector
     try {
       // Kept per thread across calls: freed, these megabytes went back to the OS and every call paid their
       // page faults again (measured on the finger: as much as the evaluations' arithmetic).
-      thread_local PathTerms::Shape current, next;
+      thread_local ShellPathTerms::Shape current, next;
       if (begin < end) {
-        terms.prepare(shapes[size_t(begin)], begin, wanted(begin), current);
+        terms.prepare(shapes[size_t(begin)], pathShapeName(begin), wanted(begin), current);
         firstShapes[size_t(thread)] = begin;
         if (wanted(begin)) firstShapeGradients[size_t(thread)].setZero(3 * numVertices_);
       }
       for (int s = begin; s < end; ++s) {
         const int b = (s + 1) % count;
-        terms.prepare(shapes[size_t(b)], b, wanted(b), next);
+        terms.prepare(shapes[size_t(b)], pathShapeName(b), wanted(b), next);
         Eigen::VectorXd* ga = !wanted(s) ? nullptr : s == begin ? &firstShapeGradients[size_t(thread)] : &(*gradients)[size_t(s)];
         values[size_t(s)] = terms.segment(current, next, ga, wanted(b) ? &(*gradients)[size_t(b)] : nullptr);
         std::swap(current, next);
@@ -275,6 +230,40 @@ std::vector<double> DiscreteShells::pathSegments(const std::vector<Eigen::Vector
   for (size_t t = 0; t < firstShapes.size(); ++t)
     if (firstShapes[t] >= 0 && wanted(firstShapes[t])) (*gradients)[size_t(firstShapes[t])] += firstShapeGradients[t];
   return values;
+}
+
+namespace detail {
+
+const ShellReference* shellReferenceOf(const ReferenceData* data, const DiscreteShells& shells) {
+  const auto* reference = dynamic_cast<const ShellReference*>(data);
+  if (!reference) return nullptr;
+  const DiscreteShellsParameters& p = shells.parameters();
+  const ShellPathTerms::Shape& e = reference->elements;
+  const bool fits = reference->membrane == p.membrane && e.faces.size() == size_t(shells.numTriangles()) &&
+                    e.edges.size() == (p.membrane == MembraneModel::DiscreteShells ? shells.edges().size() : 0) &&
+                    e.hinges.size() == (p.bendingWeight > 0.0 ? shells.hinges().size() : 0);
+  return fits ? reference : nullptr;
+}
+
+}  // namespace detail
+
+std::optional<double> DiscreteShells::pathEnergy(const std::vector<const ReferenceData*>& data, bool closed) const {
+  const int count = int(data.size());
+  if (count < 2) throw InvalidInputError("path energy: a path needs at least 2 shapes, got " + std::to_string(count));
+  std::vector<const ShellPathTerms::Shape*> shapes(data.size(), nullptr);
+  for (size_t i = 0; i < data.size(); ++i) {
+    const detail::ShellReference* reference = detail::shellReferenceOf(data[i], *this);
+    if (!reference) throw InvalidInputError("DiscreteShells: path data " + std::to_string(i) + " is not of this energy");
+    shapes[i] = &reference->elements;
+  }
+  const int segments = closed ? count : count - 1;
+  std::vector<double> values(size_t(segments), 0.0);  // summed in path order: the same sum for any thread count
+  const ShellPathTerms terms(*this);
+#pragma omp parallel for num_threads(threads_) if (numVertices_ >= detail::kParallelVertices)
+  for (int s = 0; s < segments; ++s) values[size_t(s)] = terms.segment(*shapes[size_t(s)], *shapes[size_t((s + 1) % count)], nullptr, nullptr);
+  double sum = 0.0;
+  for (double value : values) sum += value;
+  return sum;
 }
 
 }  // namespace deformation_enrichment::shape_space

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -56,6 +57,7 @@ struct SmoothingFlow::Trial {
   int unconverged = 0;
   double unconvergedGradientNorm = 0.0;
   bool collapsed = false;  // a ghost solve lifted to the fine mesh collapsed a fine triangle: step too long
+  ReferenceDataList data;  // the shapes' reference data (evaluation space), if eq. 4 was computed from it
 };
 
 SmoothingFlow::SmoothingFlow(const DeformationEnergy& energy, ShapeSequence input, FlowOptions options)
@@ -155,6 +157,17 @@ double SmoothingFlow::pathEnergy(const std::vector<Eigen::VectorXd>& shapes) con
 double SmoothingFlow::controlledPathEnergy(const std::vector<Eigen::VectorXd>& shapes) const {
   std::vector<Eigen::VectorXd> storage;
   return shape_space::pathEnergy(space_.energy(), space_.restrict(shapes, storage), options_.closed);
+}
+
+// Eq. 4 of shapes in the evaluation space, from their reference data where the energy can (no pass over the
+// shapes: the averages need that data anyway).
+double SmoothingFlow::evaluatedPathEnergy(const std::vector<Eigen::VectorXd>& evaluated, const ReferenceDataList& data) const {
+  if (!data.empty()) {
+    std::vector<const ReferenceData*> pointers;
+    for (const auto& d : data) pointers.push_back(d.get());
+    if (const std::optional<double> energy = space_.energy().pathEnergy(pointers, options_.closed)) return *energy;
+  }
+  return shape_space::pathEnergy(space_.energy(), evaluated, options_.closed);
 }
 
 std::vector<Eigen::VectorXd> SmoothingFlow::pathGradient() const {
@@ -312,11 +325,10 @@ void SmoothingFlow::accept(Trial trial, double controlled) {
   });
   current_.shapes = std::move(shapes);
   lastControlled_ = controlled;
+  currentData_ = std::move(trial.data);  // intrinsic: the same for the pieces moved back
 }
 
 FlowStep SmoothingFlow::step() {
-  // The energy after the previous step is the one before this (saves 2 m energy passes per step).
-  const double before = lastControlled_ >= 0.0 ? lastControlled_ : controlledPathEnergy();
   // eq. 10 averaging is not the gradient flow of eq. 4 (only eq. 1 is, Lemma 2), so near its own fixed
   // points eq. 4 may not decrease: there a step is also accepted if it reduces the flow's residual.
   const bool byResidual = options_.acceptResidualDecrease && !options_.symmetricAverage;
@@ -328,15 +340,22 @@ FlowStep SmoothingFlow::step() {
   std::vector<Eigen::VectorXd> storage, inputStorage;
   const std::vector<Eigen::VectorXd>& x = space_.restrict(current_.shapes, storage);
   const std::vector<Eigen::VectorXd>& input = space_.restrict(input_.shapes, inputStorage);
-  // The preprocess made the first step's (setCurrent); later steps make their own.
+  // The preprocess made the first step's (setCurrent), each accepted step the next one's.
   const ReferenceDataList xData = currentData_.empty() ? referenceData(x) : std::exchange(currentData_, {});
+  // The energy after the previous step is the one before this (saves 2 m energy passes per step).
+  const double before = lastControlled_ >= 0.0 ? lastControlled_ : evaluatedPathEnergy(x, xData);
   double tau = options_.tau;
   for (int halving = 0; halving <= options_.maxTauHalvings; ++halving, tau *= 0.5) {
     Trial trial = trialStep(tau, x, input, xData);
     double after = std::numeric_limits<double>::infinity();
     try {
-      if (!trial.collapsed) after = controlledPathEnergy(trial.shapes);
-    } catch (const InvalidInputError&) {
+      if (!trial.collapsed) {
+        std::vector<Eigen::VectorXd> trialStorage;
+        const std::vector<Eigen::VectorXd>& evaluated = space_.restrict(trial.shapes, trialStorage);
+        trial.data = referenceData(evaluated);
+        after = evaluatedPathEnergy(evaluated, trial.data);
+      }
+    } catch (const InvalidInputError&) {  // a degenerate triangle: the step is too long
     }
     FlowStep report;
     report.pathEnergy = after;

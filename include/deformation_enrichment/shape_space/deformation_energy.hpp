@@ -3,6 +3,7 @@
 // one fixed topology ([Brandt16 §3]: the dissimilarity measure of shape space). Shapes are flat vectors of
 // size 3V, xyz per vertex: (x_0, y_0, z_0, x_1, ...). The energy is not symmetric in its arguments.
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -106,6 +107,11 @@ public:
   /// `shape`'s reference data for weightedReferences, or null if the energy keeps none (the default).
   /// Throws what weightedReferences throws for such a reference.
   virtual std::shared_ptr<const ReferenceData> referenceData(const Eigen::VectorXd& shape) const;
+
+  /// Eq. 4 (the sum of pathSegments) from referenceData() of every path shape in path order, if this energy
+  /// can compute it from that data alone (a caller that keeps the data saves a pass over every shape); the
+  /// default cannot (nullopt).
+  virtual std::optional<double> pathEnergy(const std::vector<const ReferenceData*>& data, bool closed) const;
 
 protected:
   /// Throws InvalidInputError naming the argument if a shape has the wrong size or a non-finite entry.

@@ -35,6 +35,8 @@ namespace deformation_enrichment::shape_space {
 enum class MembraneModel { DiscreteShells, Hyperelastic };
 
 namespace detail {
+class ShellPathTerms;  // the module's per-shape element data and eq. 4 segment terms (private)
+
 /// Fixed sparsity of the Hessian blocks: vertex pairs that share a triangle or a hinge (built once).
 struct HessianPattern {
   std::vector<int> neighbourStart;  ///< per vertex, range into neighbours (size V + 1)
@@ -108,6 +110,10 @@ public:
                                                               const std::vector<const Eigen::VectorXd*>& references,
                                                               const std::vector<const ReferenceData*>& data) const override;
   std::shared_ptr<const ReferenceData> referenceData(const Eigen::VectorXd& shape) const override;
+  /// Eq. 4 from referenceData() of every path shape: the segment terms of pathSegments from the kept element
+  /// data, no pass over a shape (segments in parallel as pathSegments'). Throws InvalidInputError for fewer
+  /// than 2 shapes or data not made by this energy.
+  std::optional<double> pathEnergy(const std::vector<const ReferenceData*>& data, bool closed) const override;
 
   /// Membrane and bending parts separately (bending already multiplied by bendingWeight).
   double membraneValue(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const;
@@ -147,7 +153,7 @@ private:
   void checkTriangles(const Eigen::VectorXd& shape, const char* name) const;
   /// Throws InvalidInputError naming triangle t of `shape` (e.g. "the deformed shape").
   [[noreturn]] void throwDegenerate(Eigen::Index t, const std::string& shape, double area) const;
-  class PathTerms;  // pathSegments' per-shape data and segment terms
+  friend class detail::ShellPathTerms;  // pathSegments' per-shape data and segment terms
   void buildHessianPattern();
 
   Eigen::Matrix3Xi triangles_;

@@ -137,6 +137,7 @@ private:
   AverageResult averageAt(int i, double tau, const std::vector<Eigen::VectorXd>& x,
                           const std::vector<Eigen::VectorXd>& input, const ReferenceDataList& xData) const;
   double controlledPathEnergy(const std::vector<Eigen::VectorXd>& shapes) const;
+  double evaluatedPathEnergy(const std::vector<Eigen::VectorXd>& evaluated, const ReferenceDataList& data) const;
   bool isFree(int i) const;
   bool parallelShapes() const;  ///< loops over shapes on the OpenMP team (options and mesh size)
 

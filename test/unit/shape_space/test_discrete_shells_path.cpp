@@ -1,9 +1,11 @@
 // DiscreteShells::pathSegments (eq. 4's terms from per-shape element data) against the interface's default
 // (both directions of every segment evaluated term by term), against finite differences, serial against
-// parallel, on hinges folding through +-pi, and its errors.
+// parallel, on hinges folding through +-pi, and its errors; eq. 4 from kept reference data.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -131,6 +133,37 @@ TEST(PathSegments, SerialAndParallelAgree) {
   for (size_t s = 0; s < serial.size(); ++s) EXPECT_NEAR(serial[s], parallel[s], 1e-13 * serial[s]);
   for (size_t k = 0; k < path.size(); ++k)
     EXPECT_LT((serialGradients[k] - parallelGradients[k]).norm(), 1e-12 * serialGradients[k].norm());
+}
+
+// Eq. 4 from the shapes' reference data (no pass over the shapes) is pathSegments' sum, for both membranes,
+// with and without bending, open and closed; data of another energy is refused, the interface's default
+// offers none.
+TEST(PathSegments, PathEnergyFromReferenceDataIsTheirSum) {
+  const test::FlatMesh mesh = test::bumpyGrid(6, 21);
+  DiscreteShellsParameters flat = DiscreteShellsParameters::hyperelastic(0.3);
+  flat.bendingWeight = 0.0;
+  for (const auto& parameters : {DiscreteShellsParameters::classic(), DiscreteShellsParameters::hyperelastic(0.3), flat}) {
+    const DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, parameters);
+    const std::vector<VectorXd> path = noisyPath(mesh, 5, 0.05);
+    std::vector<std::shared_ptr<const ReferenceData>> kept;
+    std::vector<const ReferenceData*> data;
+    for (const VectorXd& x : path) data.push_back(kept.emplace_back(energy.referenceData(x)).get());
+    for (bool closed : {false, true}) {
+      double sum = 0.0;
+      for (double segment : energy.pathSegments(path, closed, nullptr, false)) sum += segment;
+      const std::optional<double> fromData = energy.pathEnergy(data, closed);
+      ASSERT_TRUE(fromData.has_value());
+      EXPECT_NEAR(*fromData, sum, 1e-13 * sum) << "closed " << closed;
+    }
+    EXPECT_THROW(energy.pathEnergy({data[0]}, false), InvalidInputError);
+    const DiscreteShells other(mesh.triangles, mesh.vertices.size() / 3,
+                               parameters.membrane == MembraneModel::Hyperelastic ? DiscreteShellsParameters::classic()
+                                                                                  : DiscreteShellsParameters::hyperelastic(0.3));
+    const auto foreign = other.referenceData(path[2]);
+    EXPECT_THROW(energy.pathEnergy({data[0], data[1], foreign.get()}, false), InvalidInputError);
+    EXPECT_THROW(energy.pathEnergy({data[0], nullptr}, false), InvalidInputError);
+    EXPECT_FALSE(test::ForwardingEnergy(energy).pathEnergy(data, false).has_value());
+  }
 }
 
 TEST(PathSegments, BadInputGivesClearErrors) {
