@@ -7,6 +7,30 @@
 
 namespace deformation_enrichment::shape_space {
 
+namespace {
+
+// Closed-form gradient of the hinge angle (Bridson et al. 2003, bending modes u1..u4; here with the sign of
+// our theta): d theta/d x_k = -|e| n1/|n1|^2, d theta/d x_l = -|e| n2/|n2|^2, edge vertices by the
+// projections of x_k and x_l onto the edge. Returns dihedralAngle's atan2 arguments, which share e, |e|, n1, n2.
+Eigen::Vector2d angleArgumentsAndGradient(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj, const Eigen::Vector3d& xk,
+                                          const Eigen::Vector3d& xl, Eigen::Matrix<double, 12, 1>& gradient) {
+  const Eigen::Vector3d e = xj - xi;
+  const double edgeLength = e.norm();
+  const Eigen::Vector3d n1 = e.cross(xk - xi);
+  const Eigen::Vector3d n2 = (xl - xi).cross(e);
+  const Eigen::Vector3d s1 = n1 / n1.squaredNorm(), s2 = n2 / n2.squaredNorm();
+  const double inverseLength = 1.0 / edgeLength;
+  const double ek = (xk - xi).dot(e) * inverseLength, el = (xl - xi).dot(e) * inverseLength;
+  // (x_k - x_j).e / |e| = (x_k - x_i).e / |e| - |e| (likewise for l)
+  gradient.segment<3>(0) = -((ek - edgeLength) * s1 + (el - edgeLength) * s2);
+  gradient.segment<3>(3) = ek * s1 + el * s2;
+  gradient.segment<3>(6) = -edgeLength * s1;
+  gradient.segment<3>(9) = -edgeLength * s2;
+  return {n1.cross(n2).dot(e) * inverseLength, n1.dot(n2)};
+}
+
+}  // namespace
+
 double dihedralAngle(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj, const Eigen::Vector3d& xk,
                      const Eigen::Vector3d& xl) {
   const Eigen::Vector3d e = xj - xi;
@@ -26,8 +50,14 @@ Eigen::Vector2d dihedralAngleVector(const Eigen::Vector3d& xi, const Eigen::Vect
 Eigen::Matrix<double, 12, 1> dihedralAngleGradient(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj,
                                                    const Eigen::Vector3d& xk, const Eigen::Vector3d& xl) {
   Eigen::Matrix<double, 12, 1> gradient;
-  detail::angleArgumentsAndGradient(xi, xj, xk, xl, gradient);
+  angleArgumentsAndGradient(xi, xj, xk, xl, gradient);
   return gradient;
+}
+
+double dihedralAngleAndGradient(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj, const Eigen::Vector3d& xk,
+                                const Eigen::Vector3d& xl, Eigen::Matrix<double, 12, 1>& gradient) {
+  const Eigen::Vector2d arguments = angleArgumentsAndGradient(xi, xj, xk, xl, gradient);
+  return std::atan2(arguments[0], arguments[1]);
 }
 
 HingeAngle dihedralAngleDerivatives(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj,

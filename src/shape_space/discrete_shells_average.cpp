@@ -53,7 +53,7 @@ using detail::ShellReference;
 ShellReference shellReference(const DiscreteShells& shells, const Eigen::VectorXd& ref) {
   ShellReference r;
   r.membrane = shells.parameters().membrane;
-  detail::ShellPathTerms(shells).prepare(ref, "a reference shape", false, r.elements);
+  detail::ShellPathTerms(shells).prepare(ref, detail::ShellPathTerms::kReferenceShape, false, r.elements);
   return r;
 }
 
@@ -76,7 +76,7 @@ public:
     for (size_t i = 0; i < references.size(); ++i) {
       if (weights[i] == 0.0) continue;
       used[i] = data.empty() ? nullptr : data[i];
-      if (!used[i]) used[i] = &computed.emplace_back(shellReference(shells, *references[i]));  // (references checked)
+      if (!used[i]) used[i] = &computed.emplace_back(shellReference(shells, *references[i]));
     }
     bool first = true;
     for (size_t i = 0; i < references.size(); ++i) {

@@ -34,15 +34,13 @@ using detail::ShellPathTerms;
 
 namespace {
 
-std::string pathShapeName(int k) { return "shape " + std::to_string(k) + " of the path"; }
-
 std::array<double, 3> cotangentWeights(const std::array<double, 3>& q) {  // 8 A^2 cot(angle m), from squared lengths
   return {q[1] + q[2] - q[0], q[2] + q[0] - q[1], q[0] + q[1] - q[2]};
 }
 
 }  // namespace
 
-void ShellPathTerms::prepare(const Eigen::VectorXd& x, const std::string& name, bool derivatives, Shape& out) const {
+void ShellPathTerms::prepare(const Eigen::VectorXd& x, int pathIndex, bool derivatives, Shape& out) const {
   shells_.DeformationEnergy::checkShape(x);  // size and finite entries
   const Eigen::Matrix3Xi& triangles = shells_.triangles_;
   out.faces.resize(size_t(triangles.cols()));
@@ -56,7 +54,9 @@ void ShellPathTerms::prepare(const Eigen::VectorXd& x, const std::string& name, 
     Face& face = out.faces[size_t(t)];
     face.q = {e[0].squaredNorm(), e[1].squaredNorm(), e[2].squaredNorm()};
     if (!(doubleArea > 2.0 * detail::kDegenerateAreaRatio * (face.q[0] + face.q[1] + face.q[2])))
-      shells_.throwDegenerate(t, name, 0.5 * doubleArea);
+      shells_.throwDegenerate(t, pathIndex == kReferenceShape ? std::string("a reference shape")
+                                                              : "shape " + std::to_string(pathIndex) + " of the path",
+                              0.5 * doubleArea);
     face.area = 0.5 * doubleArea;
     face.logAreaSquared = std::log(face.area * face.area);
     if (derivatives) out.faceDerivatives[size_t(t)] = {e, n / (2.0 * doubleArea)};
@@ -210,13 +210,13 @@ std::vector<double> DiscreteShells::pathSegments(const std::vector<Eigen::Vector
       // page faults again (measured on the finger: as much as the evaluations' arithmetic).
       thread_local ShellPathTerms::Shape current, next;
       if (begin < end) {
-        terms.prepare(shapes[size_t(begin)], pathShapeName(begin), wanted(begin), current);
+        terms.prepare(shapes[size_t(begin)], begin, wanted(begin), current);
         firstShapes[size_t(thread)] = begin;
         if (wanted(begin)) firstShapeGradients[size_t(thread)].setZero(3 * numVertices_);
       }
       for (int s = begin; s < end; ++s) {
         const int b = (s + 1) % count;
-        terms.prepare(shapes[size_t(b)], pathShapeName(b), wanted(b), next);
+        terms.prepare(shapes[size_t(b)], b, wanted(b), next);
         Eigen::VectorXd* ga = !wanted(s) ? nullptr : s == begin ? &firstShapeGradients[size_t(thread)] : &(*gradients)[size_t(s)];
         values[size_t(s)] = terms.segment(current, next, ga, wanted(b) ? &(*gradients)[size_t(b)] : nullptr);
         std::swap(current, next);

@@ -43,9 +43,10 @@ public:
 
   explicit ShellPathTerms(const DiscreteShells& shells) : shells_(shells) {}
 
+  static constexpr int kReferenceShape = -1;  // prepare's pathIndex for a shape outside a path
   // The element data of x, with derivatives if asked; throws InvalidInputError for a wrong size, non-finite
-  // or degenerate shape, naming it `name` (e.g. "shape 3 of the path").
-  void prepare(const Eigen::VectorXd& x, const std::string& name, bool derivatives, Shape& out) const;
+  // or degenerate shape, naming it "shape <pathIndex> of the path" or (kReferenceShape) "a reference shape".
+  void prepare(const Eigen::VectorXd& x, int pathIndex, bool derivatives, Shape& out) const;
   // W(a, b) + W(b, a); adds its derivatives in a to ga and in b to gb where those are not null (the shape's
   // data then has derivatives).
   double segment(const Shape& a, const Shape& b, Eigen::VectorXd* ga, Eigen::VectorXd* gb) const;

@@ -19,10 +19,11 @@ namespace {
 
 int wrap(int i, int count) { return ((i % count) + count) % count; }
 
-// Parallel over shapes only when each shape is big enough (parallel_for.hpp).
-// Relative to the mean diagonal; that Hessian's null space (rigid motions) is the objective's at its start.
+// The first step's warm start: ridge relative to the mean diagonal (its Hessian's rigid null space is the
+// objective's at its start).
 constexpr double kObjectiveWarmStartRidge = 1e-5;
 
+// Parallel over shapes only when each shape is big enough (parallel_for.hpp).
 bool parallelWorthIt(const std::vector<Eigen::VectorXd>& shapes) {
   return shapes.size() > 1 && shapes.front().size() >= 3 * detail::kParallelVertices;
 }
@@ -89,6 +90,7 @@ void SmoothingFlow::setCurrent(std::vector<Eigen::VectorXd> shapes) {
   lastControlled_ = -1.0;
   spaces_.clear();
   inputData_.clear();
+  currentData_.clear();
   fineBasis_.reset();
   fineOrigins_.clear();
   if (!options_.reduction.reduced) return;

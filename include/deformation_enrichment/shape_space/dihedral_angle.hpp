@@ -6,7 +6,6 @@
 #include <cmath>
 
 #include <Eigen/Core>
-#include <Eigen/Geometry>
 
 namespace deformation_enrichment::shape_space {
 
@@ -36,37 +35,10 @@ inline double dihedralAngleDifference(const Eigen::Vector2d& a, const Eigen::Vec
   return std::atan2(a[0] * b[1] - a[1] * b[0], a[1] * b[1] + a[0] * b[0]);
 }
 
-namespace detail {
-
-// Closed-form gradient of the hinge angle (Bridson et al. 2003, bending modes u1..u4; here with the sign of
-// our theta): d theta/d x_k = -|e| n1/|n1|^2, d theta/d x_l = -|e| n2/|n2|^2, edge vertices by the
-// projections of x_k and x_l onto the edge. Returns dihedralAngle's atan2 arguments, which share e, |e|, n1, n2.
-// Inline: the energies' element loops call it once per hinge and evaluation.
-inline Eigen::Vector2d angleArgumentsAndGradient(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj,
-                                                 const Eigen::Vector3d& xk, const Eigen::Vector3d& xl,
-                                                 Eigen::Matrix<double, 12, 1>& gradient) {
-  const Eigen::Vector3d e = xj - xi, a = xk - xi, b = xl - xi;
-  const double edgeLength = e.norm(), inverseLength = 1.0 / edgeLength;
-  const Eigen::Vector3d n1 = e.cross(a), n2 = b.cross(e);
-  const Eigen::Vector3d s1 = n1 / n1.squaredNorm(), s2 = n2 / n2.squaredNorm();
-  const double ek = a.dot(e) * inverseLength, el = b.dot(e) * inverseLength;
-  // (x_k - x_j).e / |e| = (x_k - x_i).e / |e| - |e| (likewise for l)
-  gradient.segment<3>(0) = -((ek - edgeLength) * s1 + (el - edgeLength) * s2);
-  gradient.segment<3>(3) = ek * s1 + el * s2;
-  gradient.segment<3>(6) = -edgeLength * s1;
-  gradient.segment<3>(9) = -edgeLength * s2;
-  return {n1.cross(n2).dot(e) * inverseLength, n1.dot(n2)};
-}
-
-}  // namespace detail
-
 /// theta and its gradient from one set of edge and normal vectors (the hot loops of gradient passes: the
 /// separate calls above would form the cross products twice).
-inline double dihedralAngleAndGradient(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj, const Eigen::Vector3d& xk,
-                                       const Eigen::Vector3d& xl, Eigen::Matrix<double, 12, 1>& gradient) {
-  const Eigen::Vector2d arguments = detail::angleArgumentsAndGradient(xi, xj, xk, xl, gradient);
-  return std::atan2(arguments[0], arguments[1]);
-}
+double dihedralAngleAndGradient(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj, const Eigen::Vector3d& xk,
+                                const Eigen::Vector3d& xl, Eigen::Matrix<double, 12, 1>& gradient);
 
 /// theta, its gradient and (if withHessian) its Hessian; without it the Hessian is set to zero.
 HingeAngle dihedralAngleDerivatives(const Eigen::Vector3d& xi, const Eigen::Vector3d& xj,
