@@ -149,6 +149,18 @@ protected:
     EXPECT_TRUE(roundTrip(goodState())) << "the node did not recover after: " << fragment;
   }
 
+  /// After a change: `expected` once a /diagnostics status received after this call shows it for `key`, else
+  /// the last value shown ("" if none came) within `seconds`. A status published before the change may still
+  /// be on its way (seen once in a fresh-clone run: "stamp gain" 1 just after reconfiguring it to 0.5).
+  std::string diagnosticAfterChange(const std::string& key, const std::string& expected, double seconds = 5.0) {
+    std::string last;
+    waitFor([&] {
+      last = diagnosticValue(key, 1.0);
+      return last == expected;
+    }, seconds);
+    return last;
+  }
+
   /// The value of `key` in a /diagnostics status of the node received after this call, "" if none came.
   std::string diagnosticValue(const std::string& key, double seconds = 5.0) {
     {

@@ -123,7 +123,7 @@ TEST_F(EnrichmentKnobsTest, StampGainScalesTheAddedDisplacementFromTheNextState)
   EXPECT_NEAR(full(2, centre), -0.001, 2e-4) << "the stamp's 1 mm at gain 1";
 
   reconfigure({{"stamp_gain", 0.5}});
-  EXPECT_EQ(diagnosticValue("stamp gain"), "0.5");
+  EXPECT_EQ(diagnosticAfterChange("stamp gain", "0.5"), "0.5");
   const Eigen::Matrix3Xf half = addedAt(dented, contact, 0.1);  // same inputs: must not reuse the gain-1 result
   ASSERT_EQ(half.cols(), full.cols());
   EXPECT_NEAR(half(2, centre), 0.5f * full(2, centre), 1e-6f);
@@ -153,7 +153,7 @@ TEST_F(EnrichmentKnobsTest, KernelWidthsChangeTheConfidenceAndZeroRestoresTheLoa
   ASSERT_LT(loaded, 0.999f) << "the test needs a contact whose descriptors differ from the example's";
 
   reconfigure({{"sigma_rho", 0.0}, {"sigma_u", 0.02}});
-  EXPECT_EQ(diagnosticValue("sigma_u"), "0.02");
+  EXPECT_EQ(diagnosticAfterChange("sigma_u", "0.02"), "0.02");
   const float narrow = confidence(0.1);
   EXPECT_TRUE(std::isfinite(narrow));
   EXPECT_LT(narrow, loaded) << "a narrower sigma_u must lower the eq. (15) weight of a dissimilar example";
@@ -173,7 +173,7 @@ TEST_F(EnrichmentKnobsTest, LowerHermiteOrderTruncatesHigherIsRefusedKeepingTheO
   const std::string directory = ::testing::TempDir() + "de_knobs_order_set";
   const Eigen::Matrix3Xd dented = makeDentExampleSet(rest_, directory);  // mu orders 1..2
   loadSet(directory);
-  EXPECT_EQ(diagnosticValue("hermite order"), "2");
+  EXPECT_EQ(diagnosticAfterChange("hermite order", "2"), "2");
 
   dynamic_reconfigure::Config reply = reconfigure({}, {{"hermite_order", 1}});
   EXPECT_EQ(intIn(reply, "hermite_order"), 1);
