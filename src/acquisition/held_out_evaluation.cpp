@@ -1,25 +1,90 @@
 #include "deformation_enrichment/acquisition/held_out_evaluation.hpp"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 
 #include "deformation_enrichment/error.hpp"
 
 namespace deformation_enrichment::acquisition {
+namespace {
 
-std::vector<HeldOutCase> simulateHeldOut(const SceneAcquisition& acquisition, const std::vector<PlanEntry>& entries,
+// The displacement e on `vertices` (ascending ids) of an enrichment (ascending ids), zero where it adds none.
+Eigen::Matrix3Xd onVertices(const enrichment::SurfaceEnrichment& e, const std::vector<int>& vertices) {
+  Eigen::Matrix3Xd out = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(vertices.size()));
+  std::size_t k = 0;
+  for (std::size_t j = 0; j < vertices.size(); ++j) {
+    while (k < e.vertices.size() && e.vertices[k] < vertices[j]) ++k;
+    if (k < e.vertices.size() && e.vertices[k] == vertices[j]) out.col(static_cast<Eigen::Index>(j)) = e.displacements.col(static_cast<Eigen::Index>(k));
+  }
+  return out;
+}
+
+double rms(const Eigen::Matrix3Xd& x) { return x.cols() ? std::sqrt(x.squaredNorm() / static_cast<double>(x.cols())) : 0.0; }
+
+// The oracle's and the own stamp's RMS on one case: `missing` = fine - coarse on the scored vertices.
+void bounds(enrichment::ContactEnricher& enricher, const HeldOutCase& c, const enrichment::ContactDescription& d,
+            const std::vector<int>& vertices, const Eigen::Matrix3Xd& missing, ContactScore& s) {
+  enrichment::SurfaceEnrichment placed;
+  enricher.placeStamp(d, c.ownStamp, c.ownStampRadius, placed);
+  s.ownStampRms = rms(missing - onVertices(placed, vertices));
+  const std::vector<cv::Mat>& stamps = enricher.blender()->stamps();
+  Eigen::MatrixXd E(missing.size(), static_cast<Eigen::Index>(stamps.size()));
+  for (std::size_t i = 0; i < stamps.size(); ++i) {
+    enricher.placeStamp(d, stamps[i], enricher.blender()->stampRadius(), placed);
+    E.col(static_cast<Eigen::Index>(i)) = onVertices(placed, vertices).reshaped();
+  }
+  const Eigen::VectorXd target = missing.reshaped();
+  const Eigen::VectorXd w = E.completeOrthogonalDecomposition().solve(target);  // least squares, rank-safe
+  s.oracleRms = std::sqrt((target - E * w).squaredNorm() / static_cast<double>(vertices.size()));
+}
+
+template <typename Value>
+double meanOver(const std::vector<ContactScore>& contacts, Value value) {
+  double sum = 0.0;
+  int n = 0;
+  for (const ContactScore& c : contacts)
+    if (c.coarseRms > 0.0) sum += value(c) / c.coarseRms, ++n;
+  return n ? sum / n : 0.0;
+}
+
+}  // namespace
+
+std::vector<HeldOutCase> simulateHeldOut(SceneAcquisition& acquisition, const std::vector<PlanEntry>& entries,
                                          const std::function<void(std::size_t)>& progress) {
   std::vector<HeldOutCase> cases;
   for (std::size_t i = 0; i < entries.size(); ++i)  // every entry checked before the first solve
-    cases.push_back({entries[i], acquisition.contactOf(entries[i]), {}});
+    cases.push_back({entries[i], acquisition.contactOf(entries[i]), {}, {}, 0.0});
   for (std::size_t i = 0; i < entries.size(); ++i) {
     if (progress) progress(i);
     cases[i].result = acquisition.simulate(entries[i]);
+    const examples::Example own = acquisition.makeExample(entries[i], cases[i].result);
+    cases[i].ownStamp = own.stamp;
+    cases[i].ownStampRadius = own.stampRadius;
   }
   return cases;
 }
 
-HeldOutScore scoreHeldOut(enrichment::ContactEnricher& enricher, const std::vector<HeldOutCase>& cases, int repetitions) {
+double HeldOutScore::meanRatio() const { return meanOver(contacts, [](const ContactScore& c) { return c.enrichedRms; }); }
+double HeldOutScore::meanOracleRatio() const { return meanOver(contacts, [](const ContactScore& c) { return c.oracleRms; }); }
+double HeldOutScore::meanOwnStampRatio() const { return meanOver(contacts, [](const ContactScore& c) { return c.ownStampRms; }); }
+
+double HeldOutScore::worstRatio() const {
+  double worst = 0.0;
+  for (const ContactScore& c : contacts) worst = std::max(worst, c.ratio());
+  return worst;
+}
+
+double HeldOutScore::medianSecondsPerFrame() const {
+  std::vector<double> seconds;
+  for (const ContactScore& c : contacts) seconds.push_back(c.timings.totalSeconds);
+  if (seconds.empty()) return 0.0;
+  std::nth_element(seconds.begin(), seconds.begin() + static_cast<long>(seconds.size() / 2), seconds.end());
+  return seconds[seconds.size() / 2];
+}
+
+HeldOutScore scoreHeldOut(enrichment::ContactEnricher& enricher, const std::vector<HeldOutCase>& cases, int repetitions,
+                          Bounds withBounds) {
   if (!enricher.hasExamples()) throw InvalidInputError("scoreHeldOut: the enricher has no example set");
   if (cases.empty()) throw InvalidInputError("scoreHeldOut: no held-out case");
   if (repetitions < 1) throw InvalidInputError("scoreHeldOut: repetitions must be >= 1");
@@ -35,28 +100,22 @@ HeldOutScore scoreHeldOut(enrichment::ContactEnricher& enricher, const std::vect
       return a.timings.totalSeconds < b.timings.totalSeconds;
     });
     const enrichment::EnrichmentResult& result = runs[static_cast<std::size_t>(repetitions / 2)];
-    Eigen::Matrix3Xd enriched = c.result.coarseOnFine;
-    enricher.apply(result, enriched);
+    std::vector<int> vertices;
+    for (Eigen::Index v = 0; v < rest.cols(); ++v)
+      if ((rest.col(v) - c.contact.point).norm() < R) vertices.push_back(static_cast<int>(v));
+    const Eigen::Matrix3Xd missing = c.result.fine(Eigen::all, vertices) - c.result.coarseOnFine(Eigen::all, vertices);
+    const Eigen::Matrix3Xd left = missing - onVertices(result.enrichment, vertices);
     ContactScore s;
-    double cSq = 0.0, eSq = 0.0;
-    for (Eigen::Index v = 0; v < rest.cols(); ++v) {
-      if ((rest.col(v) - c.contact.point).norm() >= R) continue;
-      const double ce = (c.result.coarseOnFine.col(v) - c.result.fine.col(v)).norm();
-      const double ee = (enriched.col(v) - c.result.fine.col(v)).norm();
-      cSq += ce * ce;
-      eSq += ee * ee;
-      s.coarseMax = std::max(s.coarseMax, ce);
-      s.enrichedMax = std::max(s.enrichedMax, ee);
-      ++s.vertices;
-    }
-    if (s.vertices > 0) {
-      s.coarseRms = std::sqrt(cSq / s.vertices);
-      s.enrichedRms = std::sqrt(eSq / s.vertices);
-    }
+    s.vertices = static_cast<long>(vertices.size());
+    s.coarseRms = rms(missing);
+    s.enrichedRms = rms(left);
+    s.coarseMax = s.vertices ? missing.colwise().norm().maxCoeff() : 0.0;
+    s.enrichedMax = s.vertices ? left.colwise().norm().maxCoeff() : 0.0;
     s.outcome = result.contacts.at(0);
     s.timings = result.timings;
-    coarseSq += cSq;
-    enrichedSq += eSq;
+    if (withBounds == Bounds::Compute && s.vertices > 0) bounds(enricher, c, s.outcome.description, vertices, missing, s);
+    coarseSq += missing.squaredNorm();
+    enrichedSq += left.squaredNorm();
     count += s.vertices;
     score.coarseMax = std::max(score.coarseMax, s.coarseMax);
     score.enrichedMax = std::max(score.enrichedMax, s.enrichedMax);

@@ -5,8 +5,6 @@
 #include <cmath>
 #include <random>
 
-#include "deformation_enrichment/descriptors/descriptor_distance.hpp"
-#include "deformation_enrichment/descriptors/site_segmentation.hpp"
 #include "deformation_enrichment/error.hpp"
 
 namespace deformation_enrichment::acquisition {
@@ -39,78 +37,32 @@ std::vector<int> touchableSurfaceVertices(const SceneAcquisition& acquisition) {
   return vertices;
 }
 
-PlanEntry pressAt(const Eigen::Vector3d& point, double radius, const Eigen::Vector3d& drag) {
-  PlanEntry e;
-  e.point = point;
-  e.depth = 0.6 * radius;
-  e.drag = drag;
-  return e;
+// The radical inverse of `index` in `base` (the Halton sequence's coordinate [Halton60]): 1/2, 1/4, 3/4, ...
+double radicalInverse(int index, int base) {
+  double result = 0.0, digit = 1.0 / base;
+  for (; index > 0; index /= base, digit /= base) result += digit * (index % base);
+  return result;
 }
 
-// A third of the incident triangles' area for each candidate vertex: the surface a site stands for.
-std::vector<double> vertexAreas(const mesh::TriangleMesh& surface, const std::vector<int>& candidates) {
-  std::vector<double> perVertex(static_cast<std::size_t>(surface.numVertices()), 0.0);
-  for (Eigen::Index f = 0; f < surface.numTriangles(); ++f) {
-    const Eigen::Vector3i t = surface.triangles.col(f);
-    const double third = (surface.vertices.col(t(1)) - surface.vertices.col(t(0)))
-                             .cross(surface.vertices.col(t(2)) - surface.vertices.col(t(0)))
-                             .norm() / 6.0;
-    for (int k = 0; k < 3; ++k) perVertex[static_cast<std::size_t>(t(k))] += third;
-  }
-  std::vector<double> areas;
-  for (int v : candidates) areas.push_back(perVertex[static_cast<std::size_t>(v)]);
-  return areas;
-}
-
-// Sites per region in proportion to the region's area (largest remainders), at least one each.
-std::vector<int> sitesPerRegion(const std::vector<int>& labels, const std::vector<double>& areas, int regions, int sites) {
-  std::vector<double> regionArea(static_cast<std::size_t>(regions), 0.0);
-  for (std::size_t k = 0; k < labels.size(); ++k) regionArea[static_cast<std::size_t>(labels[k])] += areas[k];
-  double total = 0.0;
-  for (double a : regionArea) total += a;
-  std::vector<int> count(static_cast<std::size_t>(regions), 1);
-  std::vector<double> share(static_cast<std::size_t>(regions));
-  for (int r = 0; r < regions; ++r) share[static_cast<std::size_t>(r)] = (sites - regions) * regionArea[static_cast<std::size_t>(r)] / total;
-  int left = sites - regions;
-  for (int r = 0; r < regions; ++r) {
-    const int whole = static_cast<int>(std::floor(share[static_cast<std::size_t>(r)]));
-    count[static_cast<std::size_t>(r)] += whole;
-    share[static_cast<std::size_t>(r)] -= whole;
-    left -= whole;
-  }
-  for (; left > 0; --left) {  // largest remainder first; ties to the lower region id
-    const auto largest = std::max_element(share.begin(), share.end()) - share.begin();
-    ++count[static_cast<std::size_t>(largest)];
-    share[static_cast<std::size_t>(largest)] = -1.0;
-  }
-  return count;
-}
-
-// `count` sites of a region: the vertex whose rho is nearest the region's mean, then each next one the
-// region's vertex farthest (in space) from the sites chosen so far.
-std::vector<std::size_t> spreadSites(const descriptors::KMeansResult& clusters, const std::vector<hermite::MomentList>& rho,
-                                     const mesh::TriangleMesh& surface, const std::vector<int>& candidates, int region,
-                                     int count) {
-  std::vector<std::size_t> members;
-  for (std::size_t k = 0; k < candidates.size(); ++k)
-    if (clusters.labels[k] == region) members.push_back(k);
-  std::vector<std::size_t> chosen;
-  double best = INFINITY;
-  for (std::size_t k : members) {
-    const double d = descriptors::siteDistance(rho[k], clusters.centres[static_cast<std::size_t>(region)]);
-    if (d < best) best = d, chosen.assign(1, k);
-  }
-  std::vector<double> nearest(members.size(), INFINITY);
-  while (static_cast<int>(chosen.size()) < std::min<int>(count, static_cast<int>(members.size()))) {
-    const Eigen::Vector3d last = surface.vertices.col(candidates[chosen.back()]);
-    std::size_t farthest = 0;
-    for (std::size_t m = 0; m < members.size(); ++m) {
-      nearest[m] = std::min(nearest[m], (surface.vertices.col(candidates[members[m]]) - last).norm());
-      if (nearest[m] > nearest[farthest]) farthest = m;
+// Touchable vertices in farthest-point order, `count` of them: the one nearest the centroid first, then each
+// the farthest (in space) from those chosen so far. A prefix of a longer order is the shorter order.
+std::vector<int> farthestPointSites(const Eigen::Matrix3Xd& vertices, const std::vector<int>& candidates, int count) {
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (int v : candidates) centroid += vertices.col(v) / static_cast<double>(candidates.size());
+  std::vector<double> nearest(candidates.size());
+  for (std::size_t k = 0; k < candidates.size(); ++k) nearest[k] = -(vertices.col(candidates[k]) - centroid).norm();
+  std::vector<int> sites;
+  while (static_cast<int>(sites.size()) < count) {
+    // First candidate of the largest distance (or of the smallest distance to the centroid, negated).
+    const std::size_t next = static_cast<std::size_t>(std::max_element(nearest.begin(), nearest.end()) - nearest.begin());
+    sites.push_back(candidates[next]);
+    const Eigen::Vector3d x = vertices.col(candidates[next]);
+    for (std::size_t k = 0; k < candidates.size(); ++k) {
+      const double d = (vertices.col(candidates[k]) - x).norm();
+      nearest[k] = sites.size() == 1 ? d : std::min(nearest[k], d);
     }
-    chosen.push_back(members[farthest]);
   }
-  return chosen;
+  return sites;
 }
 
 }  // namespace
@@ -118,36 +70,26 @@ std::vector<std::size_t> spreadSites(const descriptors::KMeansResult& clusters, 
 std::vector<PlanEntry> autoPlan(SceneAcquisition& acquisition, int examples) {
   if (examples < 1) throw InvalidInputError("autoPlan: needs at least one example, got " + std::to_string(examples));
   const std::vector<int> candidates = touchableSurfaceVertices(acquisition);
-  const int sites = (examples + kPatternsPerSite - 1) / kPatternsPerSite;
-  const int regions = std::min(sites, kMaxRegions);
-  if (static_cast<int>(candidates.size()) < sites)
+  if (static_cast<int>(candidates.size()) < examples)
     throw InvalidInputError("autoPlan: " + std::to_string(candidates.size()) + " touchable surface vertices for " +
-                            std::to_string(sites) + " sites");
-  // Site descriptors in each vertex's stamping frame at rest, as the examples will be described.
+                            std::to_string(examples) + " interactions");
   const mesh::TriangleMesh& surface = acquisition.fineSurface();
-  std::vector<hermite::MomentList> rho;
-  std::vector<Eigen::Matrix3d> frames;
-  for (int v : candidates) {
-    enrichment::Contact c;
-    c.point = surface.vertices.col(v);
-    const enrichment::ContactDescription d = acquisition.enricher().describe(surface.vertices, c);
-    rho.push_back(d.rho);
-    frames.push_back(d.B);
-  }
-  descriptors::KMeansOptions kmeans;
-  kmeans.clusters = regions;
-  const descriptors::KMeansResult clusters = descriptors::kMeansSites(rho, kmeans);
-  const std::vector<int> perRegion = sitesPerRegion(clusters.labels, vertexAreas(surface, candidates), regions, sites);
   const double r = acquisition.scene().tool.radius;
   std::vector<PlanEntry> plan;
-  for (int region = 0; region < regions; ++region) {
-    for (const std::size_t site : spreadSites(clusters, rho, surface, candidates, region, perRegion[static_cast<std::size_t>(region)])) {
-      const Eigen::Vector3d p = surface.vertices.col(candidates[site]);
-      const Eigen::Matrix3d& B = frames[site];
-      const Eigen::Vector3d drags[kPatternsPerSite] = {Eigen::Vector3d::Zero(), r * B.col(0), r * B.col(1)};
-      for (int pattern = 0; pattern < kPatternsPerSite && static_cast<int>(plan.size()) < examples; ++pattern)
-        plan.push_back(pressAt(p, r, drags[pattern]));
+  for (const int site : farthestPointSites(surface.vertices, candidates, examples)) {
+    const int i = static_cast<int>(plan.size());
+    PlanEntry e;
+    e.point = surface.vertices.col(site);
+    e.depth = r * (0.3 + 0.6 * radicalInverse(i + 1, 2));
+    if (i % 2 == 1) {  // drags in the site's rest stamping frame, so they cover every direction relative to B
+      enrichment::Contact c;
+      c.point = e.point;
+      const Eigen::Matrix3d B = acquisition.enricher().describe(surface.vertices, c).B;
+      const int k = i / 2 + 1;
+      const double length = r * (0.2 + 0.8 * radicalInverse(k, 3)), angle = 2.0 * M_PI * radicalInverse(k, 5);
+      e.drag = length * (std::cos(angle) * B.col(0) + std::sin(angle) * B.col(1));
     }
+    plan.push_back(e);
   }
   return plan;
 }

@@ -192,6 +192,8 @@ InteractionResult SceneAcquisition::simulate(const PlanEntry& entry) const {
   r.coarseSeconds = solvePath(impl_->coarse, path, scene_, indent, drag, coarse, r.converged, r.message);
   r.fineSeconds = solvePath(impl_->fine, path, scene_, indent, drag, fine, r.converged, r.message);
   r.coarseOnFine = coarseOnFineSurface(coarse);
+  r.coarseNodes = coarse;
+  r.fineNodes = fine;
   r.fine.resize(3, impl_->models.surface.numVertices());
   for (Eigen::Index v = 0; v < r.fine.cols(); ++v) r.fine.col(v) = fine.col(impl_->models.surfaceToFine[static_cast<std::size_t>(v)]);
   return r;

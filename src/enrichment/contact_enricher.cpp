@@ -291,6 +291,17 @@ void ContactEnricher::enrich(const Eigen::Matrix3Xf& current, const std::vector<
   enrichState(current, contacts, out, check);
 }
 
+void ContactEnricher::placeStamp(const ContactDescription& description, const cv::Mat& stamp, double radius, SurfaceEnrichment& out) {
+  stampScratch_.resize(1);
+  ContactStamp& placed = stampScratch_[0];
+  placed.contact = description.p;
+  placed.frame = description.B;
+  placed.rotation = description.R;
+  placed.stamp = stamp;
+  placed.radius = radius;
+  mapper_.map(stampScratch_, out);
+}
+
 template <typename Positions>
 void ContactEnricher::enrichState(const Positions& current, const std::vector<Contact>& contacts, EnrichmentResult& out,
                                   StateCheck check) {

@@ -1,15 +1,17 @@
 // de_evaluate: held-out accuracy of the enrichment on any scene, with an example set of the same scene or of
 // another one (transfer across objects, [Seiler14 §1]). It runs the coarse and the fine simulation (ground
 // truth) of each held-out contact once (random, seeded, unless given), enriches the coarse state with the
-// example set and prints one JSON object: RMS errors against the fine solution over the fine surface vertices within
-// the stamp radius, per-contact details, maxima and compute time per frame. With --curves it also scores
-// run-time variants on the same solves: error vs number of examples ([Seiler14 Fig. 7]) and run time vs
-// error over stamp resolution and Hermite orders (plot them with scripts/plot_evaluation).
+// example set and prints one JSON object: RMS errors against the fine solution over the fine surface vertices
+// within the stamp radius, per-contact details and bounds (held_out_evaluation.hpp), maxima and compute time
+// per frame. --learning-curve scores prefixes of the set (error against number of examples, [Seiler14
+// Fig. 7]); --curves scores stamp resolutions and Hermite orders (run time against error). Plot both with
+// scripts/plot_evaluation.
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "deformation_enrichment/acquisition/held_out_evaluation.hpp"
 #include "deformation_enrichment/acquisition/plan_generation.hpp"
@@ -25,7 +27,68 @@ using nlohmann::json;
 
 namespace {
 
+struct Settings {
+  std::string scene = "slab", set, contacts, learningCurve, densitySource = "auto";
+  bool noFit = false, correlationOnly = false, curves = false, noGain = false, open = false;
+  const enrichment::ContactEnricherOptions defaults;
+  double gain = 1.0, rimBand = defaults.rimBand, sigmaRho = 0.0, sigmaU = 0.0, shellThickness = 0.0;
+  double lambda = enrichment::RbfInterpolator::kDefaultRegularisation;
+  int repetitions = 5, heldOut = 8;
+  unsigned seed = 1;
+};
+
+void addOptions(CLI::App& app, Settings& s) {
+  app.add_option("--scene", s.scene, "scene to evaluate on: shipped name or scene file (.yaml)");
+  app.add_option("--examples", s.set, "example set directory (any scene's: transfer), or 'default' (the scene's "
+                                      "default set, acquired on first use)")->required();
+  app.add_option("--contacts", s.contacts, "CSV x,y,z,depth,dx,dy,dz per held-out interaction (default: random)");
+  app.add_option("--held-out", s.heldOut, "random held-out interactions without --contacts")->check(CLI::PositiveNumber);
+  app.add_option("--seed", s.seed, "seed of the random held-out interactions");
+  app.add_option("--learning-curve", s.learningCurve,
+                 "ascending sizes N1,N2,...: score the first N examples of the set for each (a nested plan's prefixes "
+                 "are the smaller sets)");
+  app.add_option("--lambda", s.lambda, "RBF regularisation lambda of (K^2 + lambda^2 I)^-1 K")->check(CLI::PositiveNumber);
+  app.add_option("--gain", s.gain, "stamp gain");
+  app.add_option("--rim-band", s.rimBand, "StampMapper rim band in [0, 1)");
+  app.add_flag("--correlation-only", s.correlationOnly, "the paper's pure correlation (no |mu| / |mu[i]| stamp scaling)");
+  app.add_option("--sigma-rho", s.sigmaRho, "fixed kernel width sigma_rho (with --sigma-u: no leave-one-out fit)");
+  app.add_option("--sigma-u", s.sigmaU, "fixed kernel width sigma_u");
+  app.add_flag("--no-fit", s.noFit, "keep default kernel widths instead of the leave-one-out fit");
+  app.add_flag("--no-cv-gain", s.noGain, "do not scale w~ by the cross-validated gain of the fit");
+  app.add_flag("--curves", s.curves, "also score stamp resolution and Hermite order variants");
+  app.add_flag("--open", s.open, "enrich the display surface without its held triangles (an open surface), as the node would");
+  app.add_option("--site-density", s.densitySource, "rho's density: auto, surface, volume (the scene's coarse volume) or shell")
+      ->capture_default_str();
+  app.add_option("--shell-thickness", s.shellThickness, "shell depth in metres (0: three window scales)")->capture_default_str();
+  app.add_option("--repetitions", s.repetitions, "enrichments per contact for the median compute time")->check(CLI::PositiveNumber);
+  app.add_flag("--json", "print JSON (always on; kept for the documented command line)");
+}
+
 json vec(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+// Strictly ascending positive sizes, none larger than the set.
+std::vector<std::size_t> parseSizes(const std::string& text, std::size_t setSize) {
+  std::vector<std::size_t> sizes;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    std::size_t used = 0;
+    long n = 0;
+    try {
+      n = std::stol(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != item.size() || n < 1) throw InvalidInputError("--learning-curve: '" + item + "' is not a positive size");
+    if (static_cast<std::size_t>(n) > setSize)
+      throw InvalidInputError("--learning-curve: size " + item + " is larger than the set (" + std::to_string(setSize) + " examples)");
+    if (!sizes.empty() && static_cast<std::size_t>(n) <= sizes.back())
+      throw InvalidInputError("--learning-curve: sizes must ascend strictly, got " + text);
+    sizes.push_back(static_cast<std::size_t>(n));
+  }
+  if (sizes.empty()) throw InvalidInputError("--learning-curve: no size given");
+  return sizes;
+}
 
 // The display surface without the triangles whose three vertices are held by the fixed region: the open
 // surface a simulator publishing only the free (visible) part would send. Vertices are kept, so coarse
@@ -47,174 +110,209 @@ mesh::TriangleMesh openSurface(const scenes::SceneModels& models) {
 }
 
 json summary(const acquisition::HeldOutScore& s) {
-  return {{"ratio", s.ratio()}, {"enriched_rms", s.enrichedRms}, {"coarse_rms", s.coarseRms},
-          {"seconds_per_frame", s.secondsPerFrame}};
+  return {{"ratio", s.ratio()}, {"mean_ratio", s.meanRatio()}, {"worst_ratio", s.worstRatio()},
+          {"enriched_rms", s.enrichedRms}, {"coarse_rms", s.coarseRms}, {"seconds_per_frame", s.secondsPerFrame}};
+}
+
+// Everything one evaluation needs: the scene, its solves, the set and the enricher it is scored with.
+struct Evaluation {
+  Settings settings;
+  scene_file::SceneDescription scene;
+  std::unique_ptr<acquisition::SceneAcquisition> acquisition;
+  examples::ExampleSet set;
+  std::string source;  // the scene the set was acquired on
+  double similarity = 1.0;
+  enrichment::ContactEnricherOptions options;
+  descriptors::SiteDensityOptions density;
+  std::string densityDescription;
+  mesh::TriangleMesh surface;
+  std::optional<enrichment::ContactEnricher> enricher;
+  enrichment::ExampleBlenderOptions blenderOptions;
+
+  // Leave-one-out needs at least two examples to leave one out.
+  enrichment::ExampleBlenderOptions blenderFor(const examples::ExampleSet& s) const {
+    enrichment::ExampleBlenderOptions o = blenderOptions;
+    o.fitWidths = o.fitWidths && s.examples.size() >= 2;
+    return o;
+  }
+  enrichment::ContactEnricher makeEnricher(const enrichment::ContactEnricherOptions& o) const {
+    return enrichment::surfaceEnricher(surface, &acquisition->models().coarse.mesh, o, density);
+  }
+};
+
+examples::ExampleSet loadOrAcquireSet(Evaluation& ev) {
+  std::string& path = ev.settings.set;
+  if (path == "default") {
+    path = acquisition::defaultExampleSetDirectory(ev.scene.name);
+    if (!std::filesystem::exists(std::filesystem::path(path) / examples::kManifestFile)) {
+      std::cerr << "acquiring the default " << ev.scene.name << " example set into " << path << " (once)\n";
+      const auto plan = ev.scene.plan == "auto" ? acquisition::autoPlan(*ev.acquisition, acquisition::kDefaultAutoPlanSize)
+                                                : acquisition::readPlan(ev.scene.plan);
+      ev.acquisition->acquireSet(plan, path, &std::cerr);
+    }
+  }
+  return examples::loadExampleSet(path);
+}
+
+void prepare(Evaluation& ev) {
+  const Settings& s = ev.settings;
+  if (!(s.sigmaRho >= 0.0) || !(s.sigmaU >= 0.0) || !std::isfinite(s.sigmaRho) || !std::isfinite(s.sigmaU))
+    throw InvalidInputError("--sigma-rho and --sigma-u must be finite and >= 0 (0: fitted)");
+  ev.scene = scene_file::readSceneFile(scene_file::findSceneFile(s.scene));
+  std::cerr << "scene " << ev.scene.name << ": building the coarse and fine models...\n";
+  ev.acquisition = std::make_unique<acquisition::SceneAcquisition>(ev.scene);
+  ev.set = loadOrAcquireSet(ev);
+  ev.source = ev.set.metadata.provenance ? ev.set.metadata.provenance->scene.name : ev.set.metadata.scene;
+  // The evaluation scene's surface, described as the set's examples were.
+  ev.options = s.defaults;
+  ev.options.stampGain = s.gain;
+  ev.options.rimBand = s.rimBand;
+  ev.options.magnitudeAware = !s.correlationOnly;
+  ev.options = enrichment::optionsFor(ev.set, ev.options);
+  // Detail of another tissue fades with its material's difference (the descriptors see geometry only).
+  if (ev.set.metadata.provenance) ev.similarity = enrichment::materialSimilarity(ev.set.metadata.provenance->scene, ev.scene);
+  ev.options.stampGain *= ev.similarity;
+  ev.density.source = descriptors::parseSiteDensitySource(s.densitySource);
+  ev.density.shellThickness = s.shellThickness;
+  ev.density.maxOutside = ev.scene.maxOutside;
+  ev.surface = s.open ? openSurface(ev.acquisition->models()) : ev.acquisition->fineSurface();
+  ev.enricher.emplace(enrichment::surfaceEnricher(ev.surface, &ev.acquisition->models().coarse.mesh, ev.options, ev.density,
+                                                  &ev.densityDescription));
+  std::cerr << "site density: " << ev.densityDescription << "\n";
+  const bool fixedWidths = s.sigmaRho > 0.0 && s.sigmaU > 0.0;
+  ev.blenderOptions.fitWidths = !s.noFit && !fixedWidths;
+  ev.blenderOptions.lambda = s.lambda;
+  ev.blenderOptions.crossValidatedGain = !s.noGain;
+  if (fixedWidths) ev.blenderOptions.widths = enrichment::KernelWidths{s.sigmaRho, s.sigmaU};
+  ev.enricher->setExamples(ev.set, ev.blenderFor(ev.set));
+}
+
+json perContact(const std::vector<acquisition::HeldOutCase>& cases, const acquisition::HeldOutScore& score) {
+  json out = json::array();
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const acquisition::PlanEntry& c = cases[i].entry;
+    const acquisition::InteractionResult& r = cases[i].result;
+    const acquisition::ContactScore& s = score.contacts[i];
+    const Eigen::VectorXd& w = s.outcome.weights;
+    out.push_back({{"point", vec(c.point)}, {"contact", vec(cases[i].contact.point)}, {"depth", c.depth},
+                   {"drag", vec(c.drag)}, {"vertices", s.vertices}, {"ratio", s.ratio()},
+                   {"coarse_rms", s.coarseRms}, {"enriched_rms", s.enrichedRms}, {"oracle_rms", s.oracleRms},
+                   {"own_stamp_rms", s.ownStampRms}, {"coarse_max", s.coarseMax},
+                   {"enriched_max", s.enrichedMax}, {"confidence", s.outcome.confidence},
+                   {"weights", std::vector<double>(w.data(), w.data() + w.size())},
+                   {"frame_rule", descriptors::toString(s.outcome.description.frameRule)},
+                   {"converged", r.converged}, {"coarse_seconds", r.coarseSeconds}, {"fine_seconds", r.fineSeconds},
+                   {"enrich_seconds", s.timings.totalSeconds}, {"descriptor_seconds", s.timings.descriptorSeconds},
+                   {"blend_seconds", s.timings.blendSeconds}, {"map_seconds", s.timings.mapSeconds}});
+  }
+  return out;
+}
+
+json report(const Evaluation& ev, const std::vector<acquisition::PlanEntry>& contacts, const acquisition::HeldOutScore& score,
+            const json& contactsJson) {
+  const Settings& s = ev.settings;
+  const enrichment::ExampleBlender& blender = *ev.enricher->blender();
+  const json looFit = blender.fit() ? json{{"error", blender.fit()->bestError}, {"gain", blender.gain()},
+                                           {"error_with_gain", blender.fit()->gainedError}}
+                                    : json(nullptr);
+  return {{"scene", ev.scene.name}, {"source_scene", ev.source}, {"transfer", ev.source != ev.scene.name},
+          {"material_similarity", ev.similarity}, {"examples", ev.set.examples.size()}, {"example_set", s.set},
+          {"contacts", contacts.size()},
+          {"held_out", s.contacts.empty() ? json{{"random", s.heldOut}, {"seed", s.seed}} : json{{"file", s.contacts}}},
+          {"stamp_radius", ev.options.stampRadius}, {"open_surface", s.open}, {"site_density", ev.densityDescription},
+          {"magnitude_aware", !s.correlationOnly}, {"rim_band", s.rimBand}, {"gain", s.gain}, {"lambda", s.lambda},
+          {"surface_vertices", ev.acquisition->fineSurface().vertices.cols()},
+          {"sigma_rho", blender.widths().sigmaRho}, {"sigma_u", blender.widths().sigmaU}, {"leave_one_out", looFit},
+          {"coarse_rms", score.coarseRms}, {"enriched_rms", score.enrichedRms}, {"ratio", score.ratio()},
+          {"mean_ratio", score.meanRatio()}, {"worst_ratio", score.worstRatio()},
+          {"oracle_mean_ratio", score.meanOracleRatio()}, {"own_stamp_mean_ratio", score.meanOwnStampRatio()},
+          {"coarse_max", score.coarseMax}, {"enriched_max", score.enrichedMax},
+          {"compute_seconds_per_frame", score.secondsPerFrame}, {"per_contact", contactsJson}};
+}
+
+// Per size N: the first N examples scored, with their oracle; the own stamp does not depend on N.
+json learningCurve(Evaluation& ev, const std::vector<acquisition::HeldOutCase>& cases, const std::vector<std::size_t>& sizes) {
+  json rows = json::array();
+  for (const std::size_t n : sizes) {
+    examples::ExampleSet prefix = ev.set;
+    prefix.examples.resize(n);
+    ev.enricher->setExamples(prefix, ev.blenderFor(prefix));
+    const acquisition::HeldOutScore score = acquisition::scoreHeldOut(*ev.enricher, cases, ev.settings.repetitions,
+                                                                      acquisition::Bounds::Compute);
+    json row = summary(score);
+    row["examples"] = n;
+    row["oracle_mean_ratio"] = score.meanOracleRatio();
+    row["own_stamp_mean_ratio"] = score.meanOwnStampRatio();
+    row["median_seconds_per_frame"] = score.medianSecondsPerFrame();
+    rows.push_back(row);
+    std::cerr << "examples " << n << ": mean ratio " << score.meanRatio() << ", worst " << score.worstRatio() << ", oracle "
+              << score.meanOracleRatio() << ", own stamp " << score.meanOwnStampRatio() << "\n";
+  }
+  ev.enricher->setExamples(ev.set, ev.blenderFor(ev.set));
+  return rows;
+}
+
+// Run time against error: stamp resolutions and Hermite orders of the whole set.
+void variantCurves(Evaluation& ev, const std::vector<acquisition::HeldOutCase>& cases, json& out) {
+  const int repetitions = ev.settings.repetitions;
+  json byResolution = json::array(), byOrder = json::array();
+  const int native = ev.set.examples.front().stamp.rows;
+  for (int n : {8, 16, 32, 64}) {
+    if (n > native) break;
+    const examples::ExampleSet reduced = enrichment::withStampResolution(ev.set, n);
+    ev.enricher->setExamples(reduced, ev.blenderFor(reduced));
+    json entry = summary(acquisition::scoreHeldOut(*ev.enricher, cases, repetitions));
+    entry["stamp_resolution"] = n;
+    byResolution.push_back(entry);
+    std::cerr << "stamp resolution " << n << ": ratio " << entry["ratio"] << "\n";
+  }
+  const int siteOrders = ev.set.examples.front().rho.lastOrder(), deformationOrders = ev.set.examples.front().mu.lastOrder();
+  for (int m = 1; m <= deformationOrders; ++m)
+    for (int n = 1; n <= siteOrders; ++n) {  // rho_1 defines the stamping frame
+      enrichment::ContactEnricherOptions orderOptions = ev.options;
+      orderOptions.descriptors.siteOrder = n;
+      orderOptions.descriptors.deformationOrder = m;
+      enrichment::ContactEnricher variant = ev.makeEnricher(orderOptions);
+      const examples::ExampleSet reduced = enrichment::withHermiteOrders(ev.set, n, m);
+      variant.setExamples(reduced, ev.blenderFor(reduced));
+      json entry = summary(acquisition::scoreHeldOut(variant, cases, repetitions));
+      entry["site_order"] = n;
+      entry["deformation_order"] = m;
+      byOrder.push_back(entry);
+      std::cerr << "orders rho " << n << ", mu " << m << ": ratio " << entry["ratio"] << "\n";
+    }
+  ev.enricher->setExamples(ev.set, ev.blenderFor(ev.set));
+  out["stamp_resolution_curve"] = byResolution;
+  out["hermite_order_curve"] = byOrder;
+}
+
+json evaluate(Evaluation& ev) {
+  prepare(ev);
+  const Settings& s = ev.settings;
+  const std::vector<std::size_t> sizes = s.learningCurve.empty() ? std::vector<std::size_t>()
+                                                                 : parseSizes(s.learningCurve, ev.set.examples.size());
+  const auto contacts = s.contacts.empty() ? acquisition::randomContacts(*ev.acquisition, s.heldOut, s.seed)
+                                           : acquisition::readPlan(s.contacts);
+  if (s.contacts.empty()) std::cerr << "held-out contacts: " << s.heldOut << " random, seed " << s.seed << "\n";
+  const std::vector<acquisition::HeldOutCase> cases = acquisition::simulateHeldOut(*ev.acquisition, contacts, [&](std::size_t i) {
+    std::cerr << "[" << i + 1 << "/" << contacts.size() << "] simulating coarse and fine...\n";
+  });
+  const acquisition::HeldOutScore score = acquisition::scoreHeldOut(*ev.enricher, cases, s.repetitions, acquisition::Bounds::Compute);
+  json out = report(ev, contacts, score, perContact(cases, score));
+  if (!sizes.empty()) out["learning_curve"] = learningCurve(ev, cases, sizes);
+  if (s.curves) variantCurves(ev, cases, out);
+  return out;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"Held-out error of coarse vs enriched surfaces against the fine simulation, on any scene"};
-  std::string sceneName = "slab", setPath, contactsPath;
-  bool asJson = false, noFit = false, correlationOnly = false, curves = false;
-  const enrichment::ContactEnricherOptions defaults;
-  double gain = 1.0, rimBand = defaults.rimBand, sigmaRho = 0.0, sigmaU = 0.0;
-  int repetitions = 5, heldOut = 8;
-  unsigned seed = 1;
-  double lambda = enrichment::RbfInterpolator::kDefaultRegularisation;
-  app.add_option("--lambda", lambda, "RBF regularisation lambda of (K^2 + lambda^2 I)^-1 K")->check(CLI::PositiveNumber);
-  app.add_option("--scene", sceneName, "scene to evaluate on: shipped name or scene file (.yaml)");
-  app.add_option("--examples", setPath, "example set directory (any scene's: transfer), or 'default' (the scene's "
-                                        "default set, acquired on first use)")->required();
-  app.add_option("--contacts", contactsPath, "CSV x,y,z,depth,dx,dy,dz per held-out interaction (default: random)");
-  app.add_option("--held-out", heldOut, "random held-out interactions without --contacts")->check(CLI::PositiveNumber);
-  app.add_option("--seed", seed, "seed of the random held-out interactions");
-  app.add_option("--gain", gain, "stamp gain");
-  app.add_option("--rim-band", rimBand, "StampMapper rim band in [0, 1)");
-  app.add_flag("--correlation-only", correlationOnly, "the paper's pure correlation (no |mu| / |mu[i]| stamp scaling)");
-  app.add_option("--sigma-rho", sigmaRho, "fixed kernel width sigma_rho (with --sigma-u: no leave-one-out fit)");
-  app.add_option("--sigma-u", sigmaU, "fixed kernel width sigma_u");
-  app.add_flag("--no-fit", noFit, "keep default kernel widths instead of the leave-one-out fit");
-  bool noGain = false;
-  app.add_flag("--no-cv-gain", noGain, "do not scale w~ by the cross-validated gain of the fit");
-  app.add_flag("--curves", curves, "also score example count, stamp resolution and Hermite order variants");
-  bool open = false;
-  std::string densitySource = "auto";
-  double shellThickness = 0.0;
-  app.add_flag("--open", open, "enrich the display surface without its held triangles (an open surface), as the node would");
-  app.add_option("--site-density", densitySource, "rho's density: auto, surface, volume (the scene's coarse volume) or shell")
-      ->capture_default_str();
-  app.add_option("--shell-thickness", shellThickness, "shell depth in metres (0: three window scales)")->capture_default_str();
-  app.add_option("--repetitions", repetitions, "enrichments per contact for the median compute time")->check(CLI::PositiveNumber);
-  app.add_flag("--json", asJson, "print JSON (always on; kept for the documented command line)");
+  Evaluation ev;
+  addOptions(app, ev.settings);
   CLI11_PARSE(app, argc, argv);
   try {
-    if (!(sigmaRho >= 0.0) || !(sigmaU >= 0.0) || !std::isfinite(sigmaRho) || !std::isfinite(sigmaU))
-      throw InvalidInputError("--sigma-rho and --sigma-u must be finite and >= 0 (0: fitted)");
-    const scene_file::SceneDescription scene = scene_file::readSceneFile(scene_file::findSceneFile(sceneName));
-    std::cerr << "scene " << scene.name << ": building the coarse and fine models...\n";
-    acquisition::SceneAcquisition acq(scene);
-    if (setPath == "default") {
-      setPath = acquisition::defaultExampleSetDirectory(scene.name);
-      if (!std::filesystem::exists(std::filesystem::path(setPath) / examples::kManifestFile)) {
-        std::cerr << "acquiring the default " << scene.name << " example set into " << setPath << " (once)\n";
-        const auto plan = scene.plan == "auto" ? acquisition::autoPlan(acq, 12) : acquisition::readPlan(scene.plan);
-        acq.acquireSet(plan, setPath, &std::cerr);
-      }
-    }
-    const examples::ExampleSet set = examples::loadExampleSet(setPath);
-    const std::string source = set.metadata.provenance ? set.metadata.provenance->scene.name : set.metadata.scene;
-    const bool transfer = source != scene.name;
-    const auto contacts = contactsPath.empty() ? acquisition::randomContacts(acq, heldOut, seed) : acquisition::readPlan(contactsPath);
-    // The evaluation scene's surface, described as the set's examples were.
-    enrichment::ContactEnricherOptions options = defaults;
-    options.stampGain = gain;
-    options.rimBand = rimBand;
-    options.magnitudeAware = !correlationOnly;
-    options = enrichment::optionsFor(set, options);
-    // Detail of another tissue fades with its material's difference (the descriptors see geometry only).
-    const double similarity = set.metadata.provenance ? enrichment::materialSimilarity(set.metadata.provenance->scene, scene) : 1.0;
-    options.stampGain *= similarity;
-    descriptors::SiteDensityOptions density;
-    density.source = descriptors::parseSiteDensitySource(densitySource);
-    density.shellThickness = shellThickness;
-    density.maxOutside = scene.maxOutside;
-    std::string densityDescription;
-    const mesh::TriangleMesh surface = open ? openSurface(acq.models()) : acq.fineSurface();
-    const mesh::TetMesh* volume = &acq.models().coarse.mesh;
-    enrichment::ContactEnricher enricher = enrichment::surfaceEnricher(surface, volume, options, density, &densityDescription);
-    std::cerr << "site density: " << densityDescription << "\n";
-    enrichment::ExampleBlenderOptions blenderOptions;
-    blenderOptions.fitWidths = !noFit && !(sigmaRho > 0.0 && sigmaU > 0.0);
-    blenderOptions.lambda = lambda;
-    blenderOptions.crossValidatedGain = !noGain;
-    if (sigmaRho > 0.0 && sigmaU > 0.0) blenderOptions.widths = enrichment::KernelWidths{sigmaRho, sigmaU};
-    // Leave-one-out needs at least two examples to leave one out.
-    const auto blenderFor = [&](const examples::ExampleSet& s) {
-      enrichment::ExampleBlenderOptions o = blenderOptions;
-      o.fitWidths = o.fitWidths && s.examples.size() >= 2;
-      return o;
-    };
-    enricher.setExamples(set, blenderFor(set));
-    const enrichment::KernelWidths widths = enricher.blender()->widths();
-
-    const std::vector<acquisition::HeldOutCase> cases = acquisition::simulateHeldOut(acq, contacts, [&](std::size_t i) {
-      std::cerr << "[" << i + 1 << "/" << contacts.size() << "] simulating coarse and fine...\n";
-    });
-    const acquisition::HeldOutScore score = acquisition::scoreHeldOut(enricher, cases, repetitions);
-
-    json perContact = json::array();
-    for (std::size_t i = 0; i < cases.size(); ++i) {
-      const acquisition::PlanEntry& c = cases[i].entry;
-      const acquisition::InteractionResult& r = cases[i].result;
-      const acquisition::ContactScore& s = score.contacts[i];
-      const Eigen::VectorXd& w = s.outcome.weights;
-      perContact.push_back({{"point", vec(c.point)}, {"contact", vec(cases[i].contact.point)}, {"depth", c.depth},
-                            {"drag", vec(c.drag)}, {"vertices", s.vertices},
-                            {"coarse_rms", s.coarseRms}, {"enriched_rms", s.enrichedRms}, {"coarse_max", s.coarseMax},
-                            {"enriched_max", s.enrichedMax}, {"confidence", s.outcome.confidence},
-                            {"weights", std::vector<double>(w.data(), w.data() + w.size())},
-                            {"frame_rule", descriptors::toString(s.outcome.description.frameRule)},
-                            {"converged", r.converged}, {"coarse_seconds", r.coarseSeconds}, {"fine_seconds", r.fineSeconds},
-                            {"enrich_seconds", s.timings.totalSeconds}, {"descriptor_seconds", s.timings.descriptorSeconds},
-                            {"blend_seconds", s.timings.blendSeconds}, {"map_seconds", s.timings.mapSeconds}});
-    }
-    json out = {{"scene", scene.name}, {"source_scene", source}, {"transfer", transfer}, {"material_similarity", similarity},
-                {"examples", set.examples.size()}, {"example_set", setPath}, {"contacts", contacts.size()},
-                {"held_out", contactsPath.empty() ? json{{"random", heldOut}, {"seed", seed}} : json{{"file", contactsPath}}},
-                {"stamp_radius", options.stampRadius}, {"open_surface", open}, {"site_density", densityDescription},
-                {"magnitude_aware", !correlationOnly}, {"rim_band", rimBand}, {"gain", gain}, {"lambda", lambda},
-                {"surface_vertices", acq.fineSurface().vertices.cols()},
-                {"sigma_rho", widths.sigmaRho}, {"sigma_u", widths.sigmaU},
-                {"leave_one_out", enricher.blender()->fit() ? json{{"error", enricher.blender()->fit()->bestError},
-                                                                   {"gain", enricher.blender()->gain()},
-                                                                   {"error_with_gain", enricher.blender()->fit()->gainedError}}
-                                                            : json(nullptr)},
-                {"coarse_rms", score.coarseRms}, {"enriched_rms", score.enrichedRms}, {"ratio", score.ratio()},
-                {"coarse_max", score.coarseMax}, {"enriched_max", score.enrichedMax},
-                {"compute_seconds_per_frame", score.secondsPerFrame}, {"per_contact", perContact}};
-
-    if (curves) {
-      json byCount = json::array(), byResolution = json::array(), byOrder = json::array();
-      for (std::size_t k = 1; k <= set.examples.size(); ++k) {
-        examples::ExampleSet first = set;
-        first.examples.resize(k);
-        enricher.setExamples(first, blenderFor(first));
-        json entry = summary(acquisition::scoreHeldOut(enricher, cases, repetitions));
-        entry["examples"] = k;
-        byCount.push_back(entry);
-        std::cerr << "examples " << k << ": ratio " << entry["ratio"] << "\n";
-      }
-      const int native = set.examples.front().stamp.rows;
-      for (int n : {8, 16, 32, 64}) {
-        if (n > native) break;
-        const examples::ExampleSet reduced = enrichment::withStampResolution(set, n);
-        enricher.setExamples(reduced, blenderFor(reduced));
-        json entry = summary(acquisition::scoreHeldOut(enricher, cases, repetitions));
-        entry["stamp_resolution"] = n;
-        byResolution.push_back(entry);
-        std::cerr << "stamp resolution " << n << ": ratio " << entry["ratio"] << "\n";
-      }
-      const int siteOrders = set.examples.front().rho.lastOrder(), deformationOrders = set.examples.front().mu.lastOrder();
-      for (int m = 1; m <= deformationOrders; ++m)
-        for (int n = 1; n <= siteOrders; ++n) {  // rho_1 defines the stamping frame
-          enrichment::ContactEnricherOptions orderOptions = options;
-          orderOptions.descriptors.siteOrder = n;
-          orderOptions.descriptors.deformationOrder = m;
-          enrichment::ContactEnricher variant = enrichment::surfaceEnricher(surface, volume, orderOptions, density);
-          const examples::ExampleSet reduced = enrichment::withHermiteOrders(set, n, m);
-          variant.setExamples(reduced, blenderFor(reduced));
-          json entry = summary(acquisition::scoreHeldOut(variant, cases, repetitions));
-          entry["site_order"] = n;
-          entry["deformation_order"] = m;
-          byOrder.push_back(entry);
-          std::cerr << "orders rho " << n << ", mu " << m << ": ratio " << entry["ratio"] << "\n";
-        }
-      out["examples_curve"] = byCount;
-      out["stamp_resolution_curve"] = byResolution;
-      out["hermite_order_curve"] = byOrder;
-    }
-    std::cout << out.dump(2) << std::endl;
+    std::cout << evaluate(ev).dump(2) << std::endl;
   } catch (const std::exception& e) {
     std::cerr << "de_evaluate: " << e.what() << "\n";
     return 1;

@@ -31,11 +31,14 @@ acquisition::Shard parseShard(const std::string& text) {
 int main(int argc, char** argv) {
   CLI::App app{"Acquire an example set (coarse vs fine Stable Neo-Hookean simulations) on a scene"};
   std::string sceneName = "slab", output, planPath, shardText = "1/1";
-  int examples = 12;
+  std::optional<int> examples;
   app.add_option("--scene", sceneName, "shipped scene name or scene file (.yaml)");
   app.add_option("--output", output, "example set directory ('default': the cache of the scene's default set)")->required();
   app.add_option("--plan", planPath, "CSV x,y,z,depth,dx,dy,dz per interaction (default: the scene's plan)");
-  app.add_option("--examples", examples, "interactions of an automatic plan (scene plan: auto)")->check(CLI::PositiveNumber);
+  app.add_option("--examples", examples,
+                 "the first N interactions of the plan: of --plan when given, else of the scene's nested automatic plan "
+                 "(default: the scene's plan; an automatic one has 12)")
+      ->check(CLI::PositiveNumber);
   app.add_option("--shard", shardText, "acquire every N-th plan line starting at line I (I/N, 1-based)");
   // Overrides of the scene file, for experiments; recorded in the set's provenance like the file's values.
   std::optional<int> resolution;
@@ -66,6 +69,7 @@ int main(int argc, char** argv) {
     if (quadrature) scene.descriptors.averageQuadrature = *quadrature == "average";
     if (toolModel) scene.tool.model = *toolModel == "penalty" ? scene_file::ToolModel::Penalty : scene_file::ToolModel::Dirichlet;
     if (!planPath.empty()) scene.plan = planPath;
+    else if (examples) scene.plan = "auto";  // the nested plan, on every scene
     std::cerr << "scene " << scene.name << " (" << scene.path << "): building the coarse and fine models...\n";
     acquisition::SceneAcquisition acq(scene);
     std::cerr << acq.models().report << "\n";
@@ -73,8 +77,12 @@ int main(int argc, char** argv) {
     if (outside > 0)
       std::cerr << outside << " display vertices lie outside the coarse volume (up to " << farthest * 1e3
                 << " mm): their coarse motion is extrapolated from the nearest tet\n";
-    const std::vector<acquisition::PlanEntry> plan =
-        scene.plan == "auto" ? acquisition::autoPlan(acq, examples) : acquisition::readPlan(scene.plan);
+    std::vector<acquisition::PlanEntry> plan =
+        scene.plan == "auto" ? acquisition::autoPlan(acq, examples.value_or(acquisition::kDefaultAutoPlanSize)) : acquisition::readPlan(scene.plan);
+    if (examples && *examples > static_cast<int>(plan.size()))
+      throw InvalidInputError("--examples " + std::to_string(*examples) + ": the plan " + scene.plan + " has only " +
+                              std::to_string(plan.size()) + " interactions");
+    if (examples) plan.resize(static_cast<std::size_t>(*examples));
     if (output == "default") output = acquisition::defaultExampleSetDirectory(scene.name);
     const examples::ExampleSet set = acq.acquireSet(plan, output, &std::cerr, shard);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -3,8 +3,15 @@
 // fine simulation is the ground truth. The coarse state (carried onto the fine surface) is enriched with
 // the example set and both are compared with the fine state over the fine surface vertices within the
 // stamp radius of the contact. Simulation is separate from scoring so that one set of expensive fine
-// solves scores many run-time variants (example count, stamp resolution, Hermite order).
+// solves scores many run-time variants (example count, blend, stamp resolution, Hermite order).
+//
+// Two bounds put a score in context, both on the same vertices:
+//   - the oracle: the least-squares blend of the set's stamps given the truth, min_w |fine - coarse - sum_i
+//     w_i e_i| with e_i stamp i placed at the contact (eq. 1). No blend of these stamps does better.
+//   - the own stamp: the stamp an example at exactly this interaction would carry, placed at the contact;
+//     what remains is what the stamp representation and the rim fade lose, however good the blend.
 #include <functional>
+#include <opencv2/core.hpp>
 #include <vector>
 
 #include "deformation_enrichment/acquisition/scene_acquisition.hpp"
@@ -16,18 +23,22 @@ struct HeldOutCase {
   PlanEntry entry;
   enrichment::Contact contact;  ///< where the tool meets the surface (rest state)
   InteractionResult result;
+  cv::Mat ownStamp;             ///< the stamp of this interaction's own example (the acquisition's settings)
+  double ownStampRadius = 0.0;
 };
 
-/// Coarse and fine solves of every entry (all entries are checked first); `progress(i)` (optional) is
-/// called before entry i.
-std::vector<HeldOutCase> simulateHeldOut(const SceneAcquisition& acquisition, const std::vector<PlanEntry>& entries,
+/// Coarse and fine solves of every entry (all entries are checked first) and their own stamps;
+/// `progress(i)` (optional) is called before entry i.
+std::vector<HeldOutCase> simulateHeldOut(SceneAcquisition& acquisition, const std::vector<PlanEntry>& entries,
                                          const std::function<void(std::size_t)>& progress = {});
 
 struct ContactScore {
   long vertices = 0;  ///< fine surface vertices within the stamp radius
   double coarseRms = 0.0, enrichedRms = 0.0, coarseMax = 0.0, enrichedMax = 0.0;  ///< metres
+  double oracleRms = 0.0, ownStampRms = 0.0;  ///< the bounds above (metres), when asked for
   enrichment::ContactOutcome outcome;   ///< descriptors, weights, confidence
   enrichment::EnrichmentTimings timings;  ///< of the median-time repetition
+  double ratio() const { return coarseRms > 0.0 ? enrichedRms / coarseRms : 0.0; }
 };
 
 struct HeldOutScore {
@@ -35,11 +46,23 @@ struct HeldOutScore {
   double coarseRms = 0.0, enrichedRms = 0.0, coarseMax = 0.0, enrichedMax = 0.0;  ///< over all contacts' vertices
   double secondsPerFrame = 0.0;  ///< mean over contacts of the median enrichment time
   double ratio() const { return coarseRms > 0.0 ? enrichedRms / coarseRms : 0.0; }
+  /// Mean and largest of the per-contact ratios (contacts without coarse error left out).
+  double meanRatio() const;
+  double worstRatio() const;
+  /// Mean per-contact ratio of the oracle and of the own stamp.
+  double meanOracleRatio() const;
+  double meanOwnStampRatio() const;
+  /// Median over contacts of the median enrichment time.
+  double medianSecondsPerFrame() const;
 };
 
+enum class Bounds { None, Compute };
+
 /// Enriches every case with `enricher` (examples already set, built on the acquisition's display surface)
-/// and scores it. Each enrichment runs `repetitions` times (>= 1) for a median compute time. Throws
-/// InvalidInputError when the enricher has no examples or no case is given.
-HeldOutScore scoreHeldOut(enrichment::ContactEnricher& enricher, const std::vector<HeldOutCase>& cases, int repetitions = 1);
+/// and scores it. Each enrichment runs `repetitions` times (>= 1) for a median compute time. With
+/// Bounds::Compute also the oracle and own-stamp errors. Throws InvalidInputError when the enricher has no
+/// examples or no case is given.
+HeldOutScore scoreHeldOut(enrichment::ContactEnricher& enricher, const std::vector<HeldOutCase>& cases, int repetitions = 1,
+                          Bounds bounds = Bounds::None);
 
 }  // namespace deformation_enrichment::acquisition

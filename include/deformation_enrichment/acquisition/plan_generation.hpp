@@ -1,12 +1,16 @@
 #pragma once
 // Acquisition plans and held-out contacts made for a scene rather than written by hand.
-//   - autoPlan follows [Seiler14 §6.1]'s use of segmentation as an acquisition guide: k-means regions of
-//     d_rho over the touchable display surface (at most kMaxRegions), sites per region in proportion to its
-//     area (at least one): the vertex whose rho is nearest the region's mean, then farthest-point spread
-//     within the region; at each site an indentation, then indentations with a drag along b_x and b_y.
+//   - autoPlan is a nested sequence: its first N interactions are autoPlan(N) for every N, so one
+//     acquisition of the largest set gives every smaller one (learning curves, a set that grows). Sites are
+//     the touchable display vertices in farthest-point order (the first the one nearest the centroid of the
+//     touchable surface): every prefix covers the surface as evenly as its size allows, which is what
+//     contacts anywhere on it need ([Seiler14 §6.1] places sites by segmentation instead; segmentation
+//     regions are not nested). Depths and drags follow a Halton sequence [Halton60] over the range of
+//     interactions the user will make: depth in [0.3 r, 0.9 r], every other interaction a drag of length in
+//     [0.2 r, r] at an angle to the site's rest frame B.
 //   - randomContacts draws held-out interactions uniformly over the touchable surface area (seeded).
 // Away from the support: sites and contacts keep two tool radii from every fixed node. Depths and drags
-// scale with the tool radius r (indent 0.6 r, drag r), so a small tool on a small object stays gentle.
+// scale with the tool radius r, so a small tool on a small object stays gentle.
 #include <vector>
 
 #include "deformation_enrichment/acquisition/plan_io.hpp"
@@ -14,14 +18,11 @@
 
 namespace deformation_enrichment::acquisition {
 
-/// Interactions per site of autoPlan: press, press + drag along b_x, press + drag along b_y.
-constexpr int kPatternsPerSite = 3;
-/// Site regions of autoPlan (fewer when there are fewer sites).
-constexpr int kMaxRegions = 4;
+/// Interactions of a scene's automatic plan when no count is asked for.
+constexpr int kDefaultAutoPlanSize = 12;
 
-/// `examples` interactions (>= 1): ceil(examples / kPatternsPerSite) sites, patterns in order until the
-/// count is reached. Deterministic. Throws InvalidInputError when the surface has fewer touchable vertices
-/// than sites.
+/// The first `examples` interactions (>= 1) of the scene's nested plan. Deterministic. Throws
+/// InvalidInputError when the surface has fewer touchable vertices than interactions.
 std::vector<PlanEntry> autoPlan(SceneAcquisition& acquisition, int examples);
 
 /// `count` held-out interactions drawn with std::mt19937(seed): a point uniform over the touchable surface

@@ -33,6 +33,8 @@ struct ToolPath {
 struct InteractionResult {
   Eigen::Matrix3Xd coarseOnFine;  ///< coarse solution interpolated through the embedding
   Eigen::Matrix3Xd fine;          ///< fine solution
+  Eigen::Matrix3Xd coarseNodes;   ///< coarse solution at the coarse volume's nodes
+  Eigen::Matrix3Xd fineNodes;     ///< fine solution at the fine volume's nodes
   double coarseSeconds = 0.0, fineSeconds = 0.0;
   bool converged = true;
   std::string message;            ///< solver messages when not converged

@@ -50,6 +50,7 @@ public:
 
   Eigen::Index size() const { return static_cast<Eigen::Index>(stamps_.size()); }
   double stampRadius() const { return radius_; }
+  const std::vector<cv::Mat>& stamps() const { return stamps_; }
   const KernelWidths& widths() const { return widths_; }
   /// The leave-one-out fit, if one was run.
   const std::optional<KernelWidthFit>& fit() const { return fit_; }

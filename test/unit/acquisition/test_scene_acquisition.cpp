@@ -80,12 +80,24 @@ TEST(SceneAcquisition, FineDetailIsCapturedAndReproducedByTheEnricher) {
   options.rimBand = 0.0;  // the rim fade alone costs ~0.26 of the coarse error here: test the pipeline
   enrichment::ContactEnricher enricher(acq.fineSurface(), options);
   enricher.setExamples(set, b);
-  const acquisition::HeldOutScore score = acquisition::scoreHeldOut(enricher, {{e, acq.contactOf(e), r}}, 3);
+  const std::vector<acquisition::HeldOutCase> cases = acquisition::simulateHeldOut(acq, {e});
+  ASSERT_EQ(cases.size(), 1u);
+  EXPECT_EQ(cv::norm(cases[0].ownStamp, ex.stamp, cv::NORM_INF), 0.0);  // the same interaction, the same stamp
+  const acquisition::HeldOutScore score = acquisition::scoreHeldOut(enricher, cases, 3, acquisition::Bounds::Compute);
   ASSERT_EQ(score.contacts.size(), 1u);
-  EXPECT_GT(score.contacts[0].vertices, 10);
+  const acquisition::ContactScore& c = score.contacts[0];
+  EXPECT_GT(c.vertices, 10);
   EXPECT_GT(score.coarseRms, 1e-5);
   EXPECT_LT(score.ratio(), 0.15);  // what is left: 16-node stamp discretisation
+  EXPECT_DOUBLE_EQ(score.meanRatio(), score.ratio());  // one contact
+  EXPECT_DOUBLE_EQ(score.worstRatio(), score.ratio());
   EXPECT_GT(score.secondsPerFrame, 0.0);
+  // The oracle is the best multiple of the one stamp: never worse than the blend's multiple or the stamp itself,
+  // and here (the set's example is the case's own) the stamp itself is within the blend's scale of it.
+  EXPECT_LE(c.oracleRms, c.enrichedRms * (1 + 1e-9));
+  EXPECT_LE(c.oracleRms, c.ownStampRms * (1 + 1e-9));
+  EXPECT_GT(c.oracleRms, 0.0);
+  EXPECT_LT(score.meanOwnStampRatio(), 0.15);
 }
 
 TEST(SceneAcquisition, AcquiredSetResumesWithoutRecomputing) {
