@@ -215,8 +215,8 @@ if(DE_BUILD_TESTS AND TARGET de_make_examples AND TARGET de_evaluate)
   set_tests_properties(slab_held_out_accuracy PROPERTIES FIXTURES_REQUIRED slab_set TIMEOUT 600)
 endif()
 
-# A live stream that holds still (issue 13): flicker, lift-off and rest measures of the slab set on box
-# surfaces of 1, 2.5 and 5 mm spacing at 0.1, 0.25 and 1 mm per frame, against the issue's bounds.
+# A live stream that holds still (docs/accuracy.md): flicker, lift-off and rest measures of the slab set on box
+# surfaces of 1, 2.5 and 5 mm spacing at 0.1, 0.25 and 1 mm per frame, against their bounds.
 if(DE_BUILD_TESTS AND TARGET de_make_examples)
   add_executable(live_stream_check ${PROJECT_SOURCE_DIR}/test/accuracy/live_stream_check.cpp)
   target_compile_options(live_stream_check PRIVATE ${DE_WARNINGS})

@@ -3,9 +3,9 @@
 of held-out interactions as the truth) and fails when the enriched / coarse RMS ratio exceeds the bound.
 
 Usage: held_out_ratio.py TOOL_DIR SET_DIR MAX_RATIO [de_evaluate options...]
-The default slab set measured 0.38 when this test was written (docs/design.md §5) and 0.46 since contacts lie
-where they are on the surface (issue 13: rho and normals interpolated over the contact's triangle, B continuous,
-sigma_rho at least 1 % of |rho|). On these four contacts equivalent descriptions spread over 0.38-0.63 (the
+The default slab set scores 0.46 on the slab plan's four held-out interactions (docs/accuracy.md; contacts where
+they are on the surface: rho and normals interpolated over the contact's triangle, B continuous, sigma_rho at
+least 1 % of |rho|, docs/design.md §8). On these four contacts equivalent descriptions spread over 0.38-0.63 (the
 site descriptor is flat on the slab's top, so its noise decides); the bound 0.5 leaves a margin for round-off
 differences between machines (BLAS, thread count), not for a worse method.
 """

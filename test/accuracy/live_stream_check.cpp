@@ -1,5 +1,5 @@
-// A live stream that holds still (issue 13), measured on the run-time pipeline the node uses: the scenario
-// and measures of live_stream_scenario.hpp, per (spacing, speed), against the issue's bounds.
+// A live stream that holds still (docs/accuracy.md), measured on the run-time pipeline the node uses: the scenario
+// and measures of live_stream_scenario.hpp, per (spacing, speed), against their bounds.
 // Frames come at 60 Hz; --temporal-smoothing TAU (seconds, default 0 = off) filters the added field.
 // Usage: live_stream_check SET_DIR [--spacings mm,...] [--speeds mm,...] [--max-flicker X] [--min-retained X]
 //        [--max-residual X] [--temporal-smoothing TAU]. Exits 1 when a bound is missed.

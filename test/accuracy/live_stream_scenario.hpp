@@ -1,9 +1,9 @@
 #pragma once
-// The live-stream scenario of issue 13, shared by live_stream_check (the run-time pipeline in one process)
+// The live-stream scenario (docs/accuracy.md), shared by live_stream_check (the run-time pipeline in one process)
 // and the live_stream rostest (the same frames through the running node): a closed box surface of the
 // slab's size, meshed at a given vertex spacing, carries a coarse dent (Gaussian, 3 mm deep) that is
 // pressed, slid along x at a given speed per frame, held, released by the tool while the tissue is still
-// dented, then relaxed back to rest. StreamMeter turns the frames' added detail into the issue's measures:
+// dented, then relaxed back to rest. StreamMeter turns the frames' added detail into these measures:
 //   flicker   max over the slide and hold frames of |d_t - d_t-1| / max(|d_t|, |d_t-1|) for the added detail
 //             d, divided by the same measure of the coarse dent c = coarse - rest (bound 3);
 //   retained  |d| on the first frame after lift-off over |d| on the frame before (bound 0.5);

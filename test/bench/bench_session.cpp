@@ -8,8 +8,8 @@
 //   Rebuild/Offthread/50k vs Rebuild/Onthread/50k: a new rest surface (a cut: another topology of ~50k
 //     vertices) arrives while states come at 60 Hz. The reported time of an iteration is the longest delay of
 //     an output behind its input's due time over the episode (manual time): with the session the enricher is
-//     built on its worker and states keep flowing; the baseline builds it on the frame thread, as the node did
-//     before the session (its setRestMesh), so the states behind it wait.
+//     built on its worker and states keep flowing; the baseline builds it on the frame thread, so the states behind
+//     it wait.
 //   Scale/1M/... vs Scale/50k/...: a ~1M-vertex rest surface (700 x 700 x 1 cells) against the 50k one: the
 //     time from setRestGeometry to a built enricher (Build, one iteration, manual time) with the process's
 //     resident memory after it (counter rss_mb, /proc/self/status), and a sliding state (EnrichMoving).
@@ -78,7 +78,7 @@ void BM_SessionEnrichMoving(benchmark::State& state) {
 }
 
 // The slab's top face alone (an open surface, every vertex kept) given the slab's tet mesh as its volume: the
-// site descriptor's density comes from the volume (issue 12), the frame path is the same.
+// site descriptor's density comes from the volume, the frame path is the same.
 void BM_SessionEnrichMovingOpen(benchmark::State& state) {
   const de_bench::SlabBenchScene& scene = de_bench::slabBenchScene();
   const de::mesh::TetMesh volume = de_bench::slabVolume(150);

@@ -94,7 +94,7 @@ void geodesicCase(benchmark::State& state, Mode mode) {
   options.reduction.useGhostMesh = mode == Mode::ReducedGhost;
   options.reduction.subspaceDimension = 16;
   options.solver = mode == Mode::FlowReduced ? ss::GeodesicSolver::Flow : ss::GeodesicSolver::PathEnergy;
-  if (mode == Mode::FlowReduced) options.enrichmentRounds = 4;  // the flow's former default
+  if (mode == Mode::FlowReduced) options.enrichmentRounds = 4;  // the flow scheme with 4 enrichment rounds
   // The full path is the reference: Newton converges quadratically, so it is cheap to solve it well past
   // the paper's rule (1e-8 per dof leaves eq. 4 above the reduced minimum on this case).
   if (mode == Mode::Full) options.absoluteFactor = 1e-14;

@@ -259,7 +259,7 @@ TEST_F(EnrichmentNodeTest, ExampleSetEnrichesOnlyAtTheContactSurvivesACorruptSet
   EXPECT_EQ(load.response.num_examples, 1u) << "the old set must stay active";
   touchAndCheck("after a corrupt set");
 
-  // Lift-off with the tissue still dented: the released site keeps its detail (issue 13) ...
+  // Lift-off with the tissue still dented: the released site keeps its detail ...
   de::ToolContactArray lifted;
   lifted.header = header();
   contactsPub_.publish(lifted);

@@ -1,8 +1,8 @@
-// A live stream through the running node (issue 13), with the default slab example set: two CRTK tools on
+// A live stream through the running node (docs/accuracy.md), with the default slab example set: two CRTK tools on
 // their own pose topics (PSM1 as geometry_msgs/PoseStamped in PSM1_base, PSM2 as TransformStamped in
 // PSM2_base), the mesh in world, and a real tf chain between (world -> table -> PSM1_base, world ->
 // PSM2_base, static transforms broadcast here). Checks that contacts land where the chain puts them, the
-// issue's three numbers for a sliding press-hold-release sequence (live_stream_scenario.hpp), and that bad
+// three measures and their bounds for a sliding press-hold-release sequence (live_stream_scenario.hpp), and that bad
 // tool input (flickering contact, swapped ids, 64 tools, stamps going backwards) is survived without
 // non-finite output or pops.
 #include <gtest/gtest.h>

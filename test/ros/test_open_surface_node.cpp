@@ -1,4 +1,4 @@
-// The node on an open surface (issue 12): ~scene slab gives the volume, the rest_mesh topic an open display
+// The node on an open surface (docs/ros_api.md): ~scene slab gives the volume, the rest_mesh topic an open display
 // surface (the slab's top alone) cut through 4.2 mm from the contact. A pressed state is enriched at the
 // contact from the volume's site density, nothing reaches across the cut, every vertex outside the stamp is
 // bit-identical; then the surface is cut again every few states while states stream at 60 Hz: every state

@@ -1,6 +1,6 @@
 #pragma once
-// An online temporal filter on the added displacement field e of eq. (1) (issue 13: none of the method's
-// sources filters in time): per vertex a first-order low-pass, e_f <- e_f + alpha (e - e_f) with
+// An online temporal filter on the added displacement field e of eq. (1) (none of the method's sources
+// filters in time): per vertex a first-order low-pass, e_f <- e_f + alpha (e - e_f) with
 // alpha = 1 - exp(-dt / tau), the exact discretisation of tau de_f/dt = e - e_f for any frame interval dt.
 // It smooths what is left of frame-to-frame jitter at the price of lag: after a step, exp(-k dt / tau) of
 // the old field remains k frames later. Work is proportional to the vertices touched now or still fading.

@@ -3,7 +3,7 @@
 // Debian's OpenBLAS (libopenblas0-pthread, installed for the 50k-tet Newton solves) then starts its own
 // threads beside the solvers' OpenMP team, and on 2 cores the two pools spin and yield against each other
 // (measured on the finger geodesic: 0.71-1.1 s with both pools, 0.55 s with a single-threaded BLAS; the
-// shape-space factorisations, 6k unknowns, gain nothing from BLAS threads even alone: README, Shape space).
+// shape-space factorisations, 6k unknowns, gain nothing from BLAS threads even alone: docs/design.md §10).
 // The shape-space tools call this once at start-up; a library user decides for their own process.
 
 namespace deformation_enrichment::shape_space {

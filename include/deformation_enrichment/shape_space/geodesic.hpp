@@ -21,7 +21,7 @@ namespace deformation_enrichment::shape_space {
 enum class GeodesicSolver { PathEnergy, Flow };
 
 struct GeodesicOptions {
-  /// No ghost mesh by default: on the finger it lengthens the geodesic by 3 % for a 1.1x saving (README).
+  /// No ghost mesh by default: on the finger it lengthens the geodesic by 3 % for a 1.1x saving (docs/accuracy.md).
   GeodesicOptions() { reduction.useGhostMesh = false; }
 
   int shapes = 8;              ///< shapes on the final path, ends included (>= 3)

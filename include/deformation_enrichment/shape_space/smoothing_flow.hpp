@@ -29,11 +29,11 @@ namespace deformation_enrichment::shape_space {
 enum class FlowWeights { Fixed, ProportionPreserving };
 
 /// Reduced smoothing's default PCA dimension: every direction of a sequence of up to 65 shapes. A shape can
-/// only shed its own noise if the subspace holds it: with 16 directions (the earlier default) the six MD2 clips
+/// only shed its own noise if the subspace holds it: with 16 directions the six MD2 clips
 /// longer than 17 frames kept much of their roughness (fresh noise of 0.1-0.5 %, 10 steps: intrinsic
 /// roughness x0.085-0.86, vertex trajectories up to 1.37x rougher, less distortion (edges and volume) than the
 /// Gaussian filter at the same roughness on only 4 of 30 runs; with 64: x0.007-0.49, at most x0.97, less
-/// distortion on 29 of 30; README, Shape space, fifth round). The cap bounds each shape's dense d x d quasi-Newton model.
+/// distortion on 29 of 30; docs/accuracy.md, Subspace size). The cap bounds each shape's dense d x d quasi-Newton model.
 constexpr int kSmoothingSubspaceDimension = 64;
 
 struct FlowOptions {

@@ -1,4 +1,4 @@
-// Continuity of the stamping frame B (issue 13): b_x must not jump where a rule's direction crosses its
+// Continuity of the stamping frame B (docs/design.md §8): b_x must not jump where a rule's direction crosses its
 // tolerance, and with the previous frame's b_x a stream keeps its orientation where the rules have none.
 #include <gtest/gtest.h>
 

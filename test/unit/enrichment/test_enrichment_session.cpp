@@ -145,7 +145,7 @@ TEST(EnrichmentSession, ReusesAnUnchangedInputAndPassesStatesWithoutContactsThro
 TEST(EnrichmentSession, AnOpenSurfaceInAVolumeIsEnrichedLikeTheClosedOne) {
   // A block 6 cm deep, deeper than the window's cut-off (4 h = 3.2 cm): the deformation descriptor's surface
   // samples are the top's in both. (On a thinner object the closed surface's far side enters mu's MLS fit,
-  // which an open surface lacks: README, "Open surfaces".)
+  // which an open surface lacks: docs/accuracy.md, Open surfaces.)
   const mesh::TetMesh block = mesh::gridTetMesh(Eigen::Vector3d(-0.05, -0.05, -0.04), Eigen::Vector3d(0.05, 0.05, 0.02),
                                                 Eigen::Vector3i(16, 16, 6));
   const mesh::TriangleMesh closed = mesh::extractSurface(block).surface;

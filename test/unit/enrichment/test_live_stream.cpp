@@ -1,4 +1,4 @@
-// A live stream that holds still (issue 13): contacts where they are (no snapping to vertices), bounded
+// A live stream that holds still (docs/design.md §8): contacts where they are (no snapping to vertices), bounded
 // blends, a smooth confidence gate, released sites after lift-off and the temporal filter.
 #include <gtest/gtest.h>
 

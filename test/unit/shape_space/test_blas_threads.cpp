@@ -39,7 +39,7 @@ protected:
 }  // namespace
 
 TEST_F(BlasThreads, OpenBlasIsMadeSingleThreadedUnlessTheUserChose) {
-  if (threads_ == 0) {  // Debian's reference BLAS (README: the tests also run with it): nothing to set
+  if (threads_ == 0) {  // Debian's reference BLAS (docs/testing.md: the tests also run with it): nothing to set
     EXPECT_FALSE(ss::preferSingleThreadedBlas());
     EXPECT_FALSE(ss::setOpenBlasThreads(2));
     return;

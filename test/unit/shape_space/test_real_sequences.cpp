@@ -8,8 +8,8 @@
 //    (compareWithFilter) changes edge lengths and volume more than the flow; after 3 steps it changes the
 //    volume more on every clip where it needs "a lot of filtering" (a kernel of at least 1.5 frames);
 //  - the near-static clips ("stand", "crstnd": 19 and 40 frames) smooth to a tenth of their roughness. With
-//    16 subspace directions (kSmoothingSubspaceDimension's former value) they kept x0.16-0.78 of it and
-//    distorted more than the filter; now the subspace holds every frame's own noise.
+//    16 subspace directions they kept x0.16-0.78 of it and
+//    distorted more than the filter; with 64 the subspace holds every frame's own noise.
 // The short run (CI) takes 3 steps per clip at one noise level each (0.1 .. 0.5 % in turn); DE_LONG_TESTS=1
 // runs 10 steps per clip at every level, where the per-clip claims are not asserted: the flow changes the
 // volume more on 4 of the 160 runs (faerie attack at 0.1-0.3 %, up to 21 % more; faerie crattak at 0.3 %,
@@ -109,7 +109,7 @@ TEST_F(BentCgalMesh, SmoothsLikeTheClips) {
   EXPECT_GT(c.filterTuning.sigma, kLotOfFiltering);  // a smooth bend with noise: the filter needs a wide kernel
 }
 
-// A longer moving sequence (40 frames, more than the 16 directions of the former subspace default): with 16
+// A longer moving sequence (40 frames, more directions than a 16-direction subspace holds): with 16
 // directions it kept x0.58 of its roughness after 10 steps; with every direction it reaches a tenth in 3.
 TEST_F(BentCgalMesh, LongSequenceSmoothsInEveryDirection) {
   const FilterComparison c = checkRun(bent(40), 3, "elephant bent 40 frames 2e-3");
