@@ -66,7 +66,9 @@ examples::ExampleSet SceneAcquisition::acquireSet(const std::vector<PlanEntry>& 
   if (fs::exists(fs::path(directory) / examples::kManifestFile)) {
     try {
       previous = examples::loadExampleSet(directory);
-      const bool same = previous.metadata.provenance &&
+      // Sets written before volume stamps existed read back with the default layers in their provenance.
+      const bool sameStamps = !previous.examples.empty() && previous.examples.front().stampLayers == scene_.stamp.layers;
+      const bool same = sameStamps && previous.metadata.provenance &&
                         scene_file::sceneYaml(previous.metadata.provenance->scene) == scene_file::sceneYaml(scene_) &&
                         previous.metadata.provenance->fileHashes == set.metadata.provenance->fileHashes;
       if (!same) previous.examples.clear();

@@ -26,12 +26,12 @@ double rms(const Eigen::Matrix3Xd& x) { return x.cols() ? std::sqrt(x.squaredNor
 void bounds(enrichment::ContactEnricher& enricher, const HeldOutCase& c, const enrichment::ContactDescription& d,
             const std::vector<int>& vertices, const Eigen::Matrix3Xd& missing, ContactScore& s) {
   enrichment::SurfaceEnrichment placed;
-  enricher.placeStamp(d, c.ownStamp, c.ownStampRadius, placed);
+  enricher.placeStamp(d, c.ownStamp, c.ownStampRadius, c.ownStampLayers, placed);
   s.ownStampRms = rms(missing - onVertices(placed, vertices));
   const std::vector<cv::Mat>& stamps = enricher.blender()->stamps();
   Eigen::MatrixXd E(missing.size(), static_cast<Eigen::Index>(stamps.size()));
   for (std::size_t i = 0; i < stamps.size(); ++i) {
-    enricher.placeStamp(d, stamps[i], enricher.blender()->stampRadius(), placed);
+    enricher.placeStamp(d, stamps[i], enricher.blender()->stampRadius(), enricher.blender()->stampLayers(), placed);
     E.col(static_cast<Eigen::Index>(i)) = onVertices(placed, vertices).reshaped();
   }
   const Eigen::VectorXd target = missing.reshaped();
@@ -54,13 +54,14 @@ std::vector<HeldOutCase> simulateHeldOut(SceneAcquisition& acquisition, const st
                                          const std::function<void(std::size_t)>& progress) {
   std::vector<HeldOutCase> cases;
   for (std::size_t i = 0; i < entries.size(); ++i)  // every entry checked before the first solve
-    cases.push_back({entries[i], acquisition.contactOf(entries[i]), {}, {}, 0.0});
+    cases.push_back({entries[i], acquisition.contactOf(entries[i]), {}, {}, 0.0, 1});
   for (std::size_t i = 0; i < entries.size(); ++i) {
     if (progress) progress(i);
     cases[i].result = acquisition.simulate(entries[i]);
     const examples::Example own = acquisition.makeExample(entries[i], cases[i].result);
     cases[i].ownStamp = own.stamp;
     cases[i].ownStampRadius = own.stampRadius;
+    cases[i].ownStampLayers = own.stampLayers;
   }
   return cases;
 }

@@ -199,6 +199,27 @@ InteractionResult SceneAcquisition::simulate(const PlanEntry& entry) const {
   return r;
 }
 
+cv::Mat SceneAcquisition::volumeStamp(const InteractionResult& result, const Eigen::Vector3d& p, const Eigen::Matrix3d& B,
+                                      const Eigen::Matrix3d& toFrame) const {
+  const int n = scene_.stamp.resolution, layers = scene_.stamp.layers;
+  const double R = scene_.stamp.radius;
+  if (result.fineNodes.cols() != impl_->models.fine.mesh.numVertices() || result.coarseNodes.cols() != impl_->models.coarse.mesh.numVertices())
+    throw InvalidInputError("volume stamp: the interaction result holds no volume states of this scene's models");
+  const Eigen::Matrix3Xd nodes = enrichment::volumeStampNodes(p, B, R, n, layers);
+  // Nodes within one grid step outside a model take its nearest tet's affine extension (as display vertices
+  // outside the coarse volume do); farther out, in the air, the nearest node inside gives its value.
+  const double step = 2.0 * R / std::min(n - 1, layers - 1);
+  const mesh::TetMesh& fine = impl_->models.fine.mesh;
+  const mesh::TetMesh& coarse = impl_->models.coarse.mesh;
+  const mesh::BarycentricEmbedding inFine = mesh::embedPoints(fine, nodes, step, mesh::FarPoints::Skip);
+  const mesh::BarycentricEmbedding inCoarse = mesh::embedPoints(coarse, nodes, step + scene_.maxOutside, mesh::FarPoints::Skip);
+  const Eigen::Matrix3Xd difference = mesh::interpolate(inFine, fine, result.fineNodes - fine.vertices) -
+                                      mesh::interpolate(inCoarse, coarse, result.coarseNodes - coarse.vertices);
+  std::vector<char> known(static_cast<std::size_t>(nodes.cols()));
+  for (Eigen::Index i = 0; i < nodes.cols(); ++i) known[static_cast<std::size_t>(i)] = inFine.tet[i] >= 0 && inCoarse.tet[i] >= 0;
+  return enrichment::volumeStampFromNodes(toFrame * difference, known, n, layers);
+}
+
 Eigen::Matrix3Xd SceneAcquisition::coarseOnFineSurface(const Eigen::Matrix3Xd& coarse) const {
   // The coarse displacement carried onto the display surface (exact for the coarse tets' affine fields).
   const mesh::TetMesh& rest = impl_->models.coarse.mesh;
@@ -230,11 +251,14 @@ examples::Example SceneAcquisition::makeExample(const PlanEntry& entry, const In
   e.frame = d.B;
   e.rho = d.rho;
   e.mu = d.mu;
-  // Psi = B^T R^T (fine - coarse) inverts eq. (1)'s R B, rasterised over the patch facing b_z.
-  e.stamp = enrichment::rasteriseFacingPatch(impl_->models.surface, result.fine - result.coarseOnFine, d.p,
-                                             d.B.transpose() * d.R.transpose(), d.B, R, scene_.stamp.resolution,
-                                             impl_->models.fineEdge);
+  // Psi = B^T R^T (fine - coarse) inverts eq. (1)'s R B: of the volume around the contact (a volume stamp),
+  // or rasterised over the surface patch facing b_z (the paper's surface stamp).
+  const Eigen::Matrix3d toFrame = d.B.transpose() * d.R.transpose();
+  e.stamp = scene_.stamp.layers > 1 ? volumeStamp(result, d.p, d.B, toFrame)
+                                    : enrichment::rasteriseFacingPatch(impl_->models.surface, result.fine - result.coarseOnFine, d.p,
+                                                                       toFrame, d.B, R, scene_.stamp.resolution, impl_->models.fineEdge);
   e.stampRadius = R;
+  e.stampLayers = scene_.stamp.layers;
   e.pattern.indentDepth = path.depth;
   e.pattern.drag = path.drag;
   e.sceneId = scene_.name;

@@ -262,20 +262,29 @@ void ContactEnricher::blendContact(const Contact& contact, ContactOutcome& outco
   outcome.weights = blendScratch_.rbf.weights;
   outcome.confidence = blendScratch_.rbf.confidence;
   outcome.muNorm = outcome.description.mu.values().norm();
-  // Psi = sum_i w~_i (|mu| / |mu[i]|) Psi[i] when magnitude-aware (examples without deformation, |mu[i]| = 0,
-  // contribute nothing), with w~_i and the ratio clamped (options).
-  Eigen::VectorXd effective = outcome.weights.cwiseMax(-options_.maxWeight).cwiseMin(options_.maxWeight);
-  if (options_.magnitudeAware)
-    for (Eigen::Index i = 0; i < effective.size(); ++i)
-      effective(i) = muNorms_(i) > 0.0 ? effective(i) * std::min(outcome.muNorm / muNorms_(i), options_.maxMagnitudeRatio) : 0.0;
+  Eigen::VectorXd effective;
+  const bool followsMagnitude = options_.magnitudeAware || blender_->method() == BlendMethod::Regression;
+  if (blender_->method() == BlendMethod::Regression) {
+    // The regression is linear in mu: beyond maxMagnitudeRatio times the largest example it stops growing.
+    const double reach = options_.maxMagnitudeRatio * blender_->largestMuNorm();
+    effective = outcome.weights * (outcome.muNorm > reach ? reach / outcome.muNorm : 1.0);
+  } else {
+    // Psi = sum_i w~_i (|mu| / |mu[i]|) Psi[i] when magnitude-aware (examples without deformation, |mu[i]| = 0,
+    // contribute nothing), with w~_i and the ratio clamped (options).
+    effective = outcome.weights.cwiseMax(-options_.maxWeight).cwiseMin(options_.maxWeight);
+    if (options_.magnitudeAware)
+      for (Eigen::Index i = 0; i < effective.size(); ++i)
+        effective(i) = muNorms_(i) > 0.0 ? effective(i) * std::min(outcome.muNorm / muNorms_(i), options_.maxMagnitudeRatio) : 0.0;
+  }
   outcome.detailScale = smoothRamp(outcome.confidence, options_.minConfidence);
-  if (contact.releasedMagnitude > 0.0 && !options_.magnitudeAware)
+  if (contact.releasedMagnitude > 0.0 && !followsMagnitude)
     outcome.detailScale *= std::min(1.0, outcome.muNorm / contact.releasedMagnitude);
   if (effective != outcome.weights) blendScratch_.stamp = blendStamps(stamps_, effective);
   stamp.contact = outcome.description.p;
   stamp.frame = outcome.description.B;
   stamp.rotation = outcome.description.R;
   stamp.radius = blender_->stampRadius();
+  stamp.layers = blender_->stampLayers();
   const double scale = options_.stampGain * outcome.detailScale;
   if (scale == 1.0) blendScratch_.stamp.copyTo(stamp.stamp);
   else blendScratch_.stamp.convertTo(stamp.stamp, -1, scale);
@@ -291,7 +300,8 @@ void ContactEnricher::enrich(const Eigen::Matrix3Xf& current, const std::vector<
   enrichState(current, contacts, out, check);
 }
 
-void ContactEnricher::placeStamp(const ContactDescription& description, const cv::Mat& stamp, double radius, SurfaceEnrichment& out) {
+void ContactEnricher::placeStamp(const ContactDescription& description, const cv::Mat& stamp, double radius, int layers,
+                                 SurfaceEnrichment& out) {
   stampScratch_.resize(1);
   ContactStamp& placed = stampScratch_[0];
   placed.contact = description.p;
@@ -299,6 +309,7 @@ void ContactEnricher::placeStamp(const ContactDescription& description, const cv
   placed.rotation = description.R;
   placed.stamp = stamp;
   placed.radius = radius;
+  placed.layers = layers;
   mapper_.map(stampScratch_, out);
 }
 

@@ -32,6 +32,14 @@ double medianNorm(const std::vector<hermite::MomentList>& moments) {
 
 }  // namespace
 
+BlendMethod parseBlendMethod(const std::string& text) {
+  if (text == "paper") return BlendMethod::Paper;
+  if (text == "regression") return BlendMethod::Regression;
+  throw InvalidInputError("blend '" + text + "' does not exist (paper or regression)");
+}
+
+const char* toString(BlendMethod method) { return method == BlendMethod::Paper ? "paper" : "regression"; }
+
 ExampleBlender::ExampleBlender(const examples::ExampleSet& set, const ExampleBlenderOptions& options)
     : lambda_(options.lambda), widths_(options.widths) {
   if (set.examples.empty()) throw InvalidInputError("ExampleBlender: the example set is empty");
@@ -45,10 +53,17 @@ ExampleBlender::ExampleBlender(const examples::ExampleSet& set, const ExampleBle
   }
   // Throws for differing stamp grids; the blended stamp of all-zero weights also fixes the radius.
   blendExampleStamps(set.examples, Eigen::VectorXd::Zero(size()), radius_);
+  layers_ = set.examples.front().stampLayers;
   table_ = std::make_unique<ExampleDescriptorTable>(rho, mu);
   dissimilarities_ = exampleDissimilarities(*table_, rho, mu);
-  if (options.fitWidths && size() >= 2) {
-    const Eigen::MatrixXd gram = stampGramMatrix(stamps_);
+  for (const auto& m : mu) largestMuNorm_ = std::max(largestMuNorm_, m.values().norm());
+  const Eigen::MatrixXd gram = size() >= 2 ? stampGramMatrix(stamps_) : Eigen::MatrixXd();
+  // Regression needs two examples to leave one out, and something to regress (else the paper's blend, which
+  // adds nothing for zero stamps either).
+  if (options.method == BlendMethod::Regression && size() >= 2 && gram.trace() > 0.0 && largestMuNorm_ > 0.0) {
+    regression_ = std::make_unique<StampRegression>(rho, mu, gram);
+    if (options.crossValidatedGain) gain_ = regression_->fit().gain;
+  } else if (options.fitWidths && size() >= 2) {
     if (gram.trace() > 0.0) {  // all-zero stamps: nothing to cross-validate, keep the given widths
       Eigen::VectorXd magnitudes;
       if (options.magnitudeAware) {
@@ -71,8 +86,12 @@ void ExampleBlender::setWidths(const KernelWidths& widths) {
 }
 
 void ExampleBlender::blend(const hermite::MomentList& rho, const hermite::MomentList& mu, BlendResult& out) const {
-  correlate(*table_, rho, mu, widths_, out.correlation);  // eq. (15)
-  rbf_->interpolate(out.correlation.weights, out.rbf);
+  if (regression_) {
+    regression_->weights(rho, mu, out.rbf.weights, out.rbf.confidence);
+  } else {
+    correlate(*table_, rho, mu, widths_, out.correlation);  // eq. (15)
+    rbf_->interpolate(out.correlation.weights, out.rbf);
+  }
   if (gain_ != 1.0) out.rbf.weights *= gain_;
   out.stamp = blendStamps(stamps_, out.rbf.weights);  // eq. (16)
 }

@@ -85,7 +85,9 @@ std::unique_ptr<EnrichmentSession::Built> EnrichmentSession::build(const RestSur
   auto result = std::make_unique<Built>();
   result->enricher = std::make_unique<ContactEnricher>(
       surfaceEnricher(rest.geometry.surface, volume, options, options_.density, &result->siteDensity));
-  result->enricher->setExamples(withDeformationOrder(set, order));
+  ExampleBlenderOptions blending;
+  blending.method = knobs.blend;
+  result->enricher->setExamples(withDeformationOrder(set, order), blending);
   result->enricher->setKernelWidths(knobs.sigmaRho, knobs.sigmaU);
   result->restVersion = rest.version;
   return result;
@@ -231,8 +233,8 @@ void EnrichmentSession::setKnobs(const EnrichmentKnobs& requested) {
                               " refused: the active example set stores deformation moments up to order " +
                               std::to_string(built) + " only");
     const int order = requested.hermiteOrder > 0 ? requested.hermiteOrder : built;
-    // New descriptors on both sides: a new enricher, the widths fitted again for them.
-    if (activeOrder != 0 && order != activeOrder) return installConfiguration(set, requested);
+    // New descriptors on both sides, or another blend: a new enricher, fitted again for them.
+    if (activeOrder != 0 && (order != activeOrder || requested.blend != knobs().blend)) return installConfiguration(set, requested);
   }
   std::lock_guard<std::mutex> lock(mutex_);
   if (enricher_ && enricher_->enricher) {  // the values were checked above, so none of these throws
@@ -279,6 +281,7 @@ SessionDiagnostics EnrichmentSession::diagnostics() const {
     d.hermiteOrder = enricher.options().descriptors.deformationOrder;
     d.widths = enricher.blender()->widths();
     d.fittedWidths = enricher.loadedWidths();
+    d.blend = toString(enricher.blender()->method());
   }
   return d;
 }

@@ -21,9 +21,14 @@ void checkFrame(const Eigen::Vector3d& p, const Eigen::Matrix3d& B, const char* 
 
 }  // namespace
 
-void checkStamp(const cv::Mat& stamp, double radius, const char* what) {
+void checkStamp(const cv::Mat& stamp, double radius, int layers, const char* what) {
   if (stamp.type() != CV_32FC3) throw InvalidInputError(std::string(what) + ": stamp is not CV_32FC3");
   if (stamp.rows < 2 || stamp.cols < 2) throw InvalidInputError(std::string(what) + ": stamp has fewer than 2x2 nodes");
+  if (layers < 1) throw InvalidInputError(std::string(what) + ": stamp layers must be at least 1");
+  if (layers > 1 && stamp.rows != layers * stamp.cols)
+    throw InvalidInputError(std::string(what) + ": a stamp of " + std::to_string(layers) + " layers of " + std::to_string(stamp.cols) +
+                            "x" + std::to_string(stamp.cols) + " nodes needs " + std::to_string(layers * stamp.cols) + " rows, not " +
+                            std::to_string(stamp.rows));
   if (!(std::isfinite(radius) && radius > 0.0)) throw InvalidInputError(std::string(what) + ": stamp radius is not positive and finite");
 }
 
@@ -80,8 +85,73 @@ cv::Mat rasteriseStamp(const mesh::TriangleMesh& restPatch, const Eigen::Matrix3
   return stamp;
 }
 
+Eigen::Matrix3Xd volumeStampNodes(const Eigen::Vector3d& p, const Eigen::Matrix3d& B, double radius, int resolution, int layers) {
+  checkFrame(p, B, "volumeStampNodes");
+  if (!(std::isfinite(radius) && radius > 0.0)) throw InvalidInputError("volumeStampNodes: radius is not positive and finite");
+  if (resolution < 2 || layers < 2) throw InvalidInputError("volumeStampNodes: needs at least 2 nodes per side and 2 layers");
+  const double spacing = 2.0 * radius / (resolution - 1), height = 2.0 * radius / (layers - 1);
+  Eigen::Matrix3Xd nodes(3, static_cast<Eigen::Index>(resolution) * resolution * layers);
+  for (int l = 0, i = 0; l < layers; ++l)
+    for (int j = 0; j < resolution; ++j)
+      for (int k = 0; k < resolution; ++k, ++i)
+        nodes.col(i) = p + B * Eigen::Vector3d(-radius + k * spacing, -radius + j * spacing, -radius + l * height);
+  return nodes;
+}
+
+cv::Mat volumeStampFromNodes(const Eigen::Matrix3Xd& values, const std::vector<char>& known, int resolution, int layers) {
+  const Eigen::Index count = static_cast<Eigen::Index>(resolution) * resolution * layers;
+  if (resolution < 2 || layers < 2) throw InvalidInputError("volumeStampFromNodes: needs at least 2 nodes per side and 2 layers");
+  if (values.cols() != count || static_cast<Eigen::Index>(known.size()) != count)
+    throw InvalidInputError("volumeStampFromNodes: " + std::to_string(values.cols()) + " values and " + std::to_string(known.size()) +
+                            " flags for " + std::to_string(count) + " nodes");
+  Eigen::Matrix3Xd filled = values;
+  std::vector<char> done(known);
+  std::vector<Eigen::Index> front;
+  for (Eigen::Index i = 0; i < count; ++i) {
+    if (!done[static_cast<std::size_t>(i)]) continue;
+    if (!values.col(i).allFinite()) throw InvalidInputError("volumeStampFromNodes: a known value is not finite");
+    front.push_back(i);
+  }
+  if (front.empty()) throw InvalidInputError("volumeStampFromNodes: no node lies in the object");
+  // Breadth-first over the 6-neighbour grid: each wave of unknown nodes takes the mean of its known neighbours.
+  const Eigen::Index layer = static_cast<Eigen::Index>(resolution) * resolution;
+  const auto neighbours = [&](Eigen::Index i, auto&& visit) {
+    const Eigen::Index k = i % resolution, j = (i / resolution) % resolution, l = i / layer;
+    if (k > 0) visit(i - 1);
+    if (k + 1 < resolution) visit(i + 1);
+    if (j > 0) visit(i - resolution);
+    if (j + 1 < resolution) visit(i + resolution);
+    if (l > 0) visit(i - layer);
+    if (l + 1 < layers) visit(i + layer);
+  };
+  while (!front.empty()) {
+    std::vector<Eigen::Index> wave;
+    for (const Eigen::Index i : front)
+      neighbours(i, [&](Eigen::Index n) {
+        if (!done[static_cast<std::size_t>(n)] && (wave.empty() || wave.back() != n)) wave.push_back(n);
+      });
+    std::sort(wave.begin(), wave.end());
+    wave.erase(std::unique(wave.begin(), wave.end()), wave.end());
+    for (const Eigen::Index i : wave) {
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      int n = 0;
+      neighbours(i, [&](Eigen::Index m) {
+        if (done[static_cast<std::size_t>(m)] == 1) sum += filled.col(m), ++n;
+      });
+      filled.col(i) = sum / n;
+    }
+    for (const Eigen::Index i : wave) done[static_cast<std::size_t>(i)] = 1;  // known for the next wave only
+    front = std::move(wave);
+  }
+  cv::Mat stamp(layers * resolution, resolution, CV_32FC3);
+  for (Eigen::Index i = 0; i < count; ++i)
+    stamp.at<cv::Vec3f>(static_cast<int>(i / resolution), static_cast<int>(i % resolution)) =
+        cv::Vec3f(static_cast<float>(filled(0, i)), static_cast<float>(filled(1, i)), static_cast<float>(filled(2, i)));
+  return stamp;
+}
+
 void lookUpStamp(const cv::Mat& stamp, double radius, const Eigen::Matrix2Xd& coordinates, Eigen::Matrix3Xd& out) {
-  checkStamp(stamp, radius, "lookUpStamp");
+  checkStamp(stamp, radius, 1, "lookUpStamp");
   if (!coordinates.allFinite()) throw InvalidInputError("lookUpStamp: coordinates are not finite");
   // Own bilinear interpolation rather than cv::remap: remap quantises INTER_LINEAR weights to 1/32 of a
   // cell and limits sizes to SHRT_MAX, which would break float-precision reproduction of smooth fields.

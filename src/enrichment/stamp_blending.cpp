@@ -40,6 +40,8 @@ cv::Mat blendExampleStamps(const std::vector<examples::Example>& examples, const
     // Radii must agree to a relative 1e-9: one grid, one meaning of a node.
     if (std::abs(examples[i].stampRadius - examples[0].stampRadius) > 1e-9 * examples[0].stampRadius)
       throw InvalidInputError("blendExampleStamps: example " + std::to_string(i) + " has a different stamp radius");
+    if (examples[i].stampLayers != examples[0].stampLayers)
+      throw InvalidInputError("blendExampleStamps: example " + std::to_string(i) + " has a different number of stamp layers");
     stamps.push_back(examples[i].stamp);
   }
   radius = examples[0].stampRadius;
@@ -134,7 +136,7 @@ void StampMapper::map(const std::vector<ContactStamp>& contacts, SurfaceEnrichme
   for (std::size_t c = 0; c < contacts.size(); ++c) {
     const ContactStamp& contact = contacts[c];
     const std::string what = "StampMapper::map: contact " + std::to_string(c);
-    checkStamp(contact.stamp, contact.radius, what.c_str());
+    checkStamp(contact.stamp, contact.radius, contact.layers, what.c_str());
     if (!contact.contact.allFinite() || !contact.frame.allFinite() || !contact.rotation.allFinite())
       throw InvalidInputError(what + ": contact, frame or rotation is not finite");
     if ((contact.frame.transpose() * contact.frame - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-6)
@@ -152,11 +154,14 @@ void StampMapper::map(const std::vector<ContactStamp>& contacts, SurfaceEnrichme
     for (const auto& [vertex, squaredDistance] : index_->ball(contact.contact, contact.radius * contact.radius, adjacency_)) {
       const double a = rimWeight(std::sqrt(squaredDistance) * inverseRadius);
       if (a == 0.0) continue;
-      if (normals_.cols() != 0 && normals_.col(vertex).dot(contact.frame.col(2)) < 0.0) continue;  // far side
+      const bool volume = contact.layers > 1;
+      if (!volume && normals_.cols() != 0 && normals_.col(vertex).dot(contact.frame.col(2)) < 0.0) continue;  // far side
       const Eigen::Vector3d x = rest.col(vertex) - contact.contact;
       const double phi = contact.frame.col(0).dot(x), varphi = contact.frame.col(1).dot(x);
-      // e_c(x) = R B Psi(phi, varphi) (eq. 1), weighted by the rim weight a_c(x).
-      const Eigen::Vector3d e = a * (RB * sampleStamp(contact.stamp, contact.radius, phi, varphi));
+      // e_c(x) = R B Psi(phi, varphi[, zeta]) (eq. 1), weighted by the rim weight a_c(x).
+      const Eigen::Vector3d psi = volume ? sampleVolumeStamp(contact.stamp, contact.radius, contact.layers, phi, varphi, contact.frame.col(2).dot(x))
+                                         : sampleStamp(contact.stamp, contact.radius, phi, varphi);
+      const Eigen::Vector3d e = a * (RB * psi);
       int& slot = slot_[static_cast<std::size_t>(vertex)];
       if (slot < 0) {  // first stamp on this vertex: a new compact entry
         slot = static_cast<int>(touched_.size());

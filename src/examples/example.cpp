@@ -32,6 +32,9 @@ std::string exampleProblem(const Example& example) {
   if (!std::isfinite(example.pattern.indentDepth) || !example.pattern.drag.allFinite()) return "interaction pattern is not finite";
   if (example.stamp.type() != CV_32FC3) return "stamp is not CV_32FC3";
   if (example.stamp.rows < 2 || example.stamp.cols < 2) return "stamp has fewer than 2x2 nodes";
+  if (example.stampLayers < 1) return "stamp layers must be at least 1";
+  if (example.stampLayers > 1 && example.stamp.rows != example.stampLayers * example.stamp.cols)
+    return "a volume stamp's rows must be its layers times its columns";
   if (!cv::checkRange(example.stamp, true)) return "stamp contains NaN or Inf";
   return {};
 }

@@ -149,7 +149,7 @@ void saveExampleSet(const ExampleSet& set, const std::string& directory) {
   for (std::size_t i = 0; i < set.examples.size(); ++i) {
     const Example& e = set.examples[i];
     validateExample(e, "example " + std::to_string(i));
-    if (e.stamp.size() != set.examples[0].stamp.size() ||
+    if (e.stamp.size() != set.examples[0].stamp.size() || e.stampLayers != set.examples[0].stampLayers ||
         std::abs(e.stampRadius - set.examples[0].stampRadius) > 1e-9 * set.examples[0].stampRadius)
       throw InvalidInputError("saveExampleSet: example " + std::to_string(i) + " stamp size or radius differs from example 0");
   }
@@ -171,6 +171,7 @@ void saveExampleSet(const ExampleSet& set, const std::string& directory) {
                         {"stamp_radius", e.stampRadius},
                         {"stamp_rows", stamp.rows},
                         {"stamp_cols", stamp.cols},
+                        {"stamp_layers", e.stampLayers},
                         {"stamp_offset_bytes", offset},
                         {"pattern", {{"indent_depth", e.pattern.indentDepth},
                                      {"drag", {e.pattern.drag.x(), e.pattern.drag.y(), e.pattern.drag.z()}}}},
@@ -290,6 +291,12 @@ Example readExample(const ManifestReader& r, const json& e, std::size_t i, const
     r.fail("field " + p + " stamp size differs from example 0 (a set shares one stamp grid)");
   if (first && std::abs(ex.stampRadius - first->stampRadius) > 1e-9 * std::abs(first->stampRadius))
     r.fail("field " + p + ".stamp_radius differs from example 0 (a set shares one stamp grid)");
+  // Sets written before volume stamps existed hold surface stamps.
+  if (e.is_object() && e.contains("stamp_layers")) ex.stampLayers = r.integer(e, "stamp_layers", p);
+  if (ex.stampLayers < 1 || (ex.stampLayers > 1 && stampRows != ex.stampLayers * stampCols))
+    r.fail("field " + p + ".stamp_layers " + std::to_string(ex.stampLayers) + " does not divide the stamp's " +
+           std::to_string(stampRows) + " rows into square layers");
+  if (first && ex.stampLayers != first->stampLayers) r.fail("field " + p + ".stamp_layers differs from example 0");
   const json& offsetField = r.field(e, "stamp_offset_bytes", p);
   if (!offsetField.is_number_unsigned() || offsetField.get<std::uint64_t>() != offset)
     r.fail("field " + p + ".stamp_offset_bytes is not " + std::to_string(offset) + " (stamps must be packed in order)");

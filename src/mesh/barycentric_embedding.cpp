@@ -95,6 +95,7 @@ EmbeddingReport reportOf(const Eigen::VectorXd& outside, const TetMesh& coarse) 
   EmbeddingReport report;
   double sum = 0.0;
   for (Eigen::Index i = 0; i < outside.size(); ++i) {
+    if (std::isinf(outside[i])) continue;  // left out
     report.maxDistance = std::max(report.maxDistance, outside[i]);
     if (outside[i] > tolerance) {
       ++report.outside;
@@ -107,7 +108,7 @@ EmbeddingReport reportOf(const Eigen::VectorXd& outside, const TetMesh& coarse) 
 
 }  // namespace
 
-BarycentricEmbedding embedPoints(const TetMesh& coarse, const Eigen::Matrix3Xd& points, double maxOutside) {
+BarycentricEmbedding embedPoints(const TetMesh& coarse, const Eigen::Matrix3Xd& points, double maxOutside, FarPoints far) {
   validate(coarse);
   if (!points.allFinite()) throw InvalidInputError("embedPoints: points contain NaN or Inf");
   if (!(maxOutside >= 0.0)) throw InvalidInputError("embedPoints: maxOutside must be non-negative");
@@ -138,6 +139,12 @@ BarycentricEmbedding embedPoints(const TetMesh& coarse, const Eigen::Matrix3Xd& 
     // when there are none (p lies farther out), the nearest centroids, for the message.
     const double radius = searchRadius + maxOutside;
     tree.radiusSearch(p.data(), radius * radius, hits, params);
+    if (hits.empty() && far == FarPoints::Skip) {
+      embedding.tet[i] = -1;
+      embedding.weights.col(i).setZero();
+      embedding.outside[i] = std::numeric_limits<double>::infinity();
+      continue;
+    }
     if (hits.empty()) {
       std::vector<unsigned int> index(8);
       std::vector<double> distance(8);
@@ -148,8 +155,9 @@ BarycentricEmbedding embedPoints(const TetMesh& coarse, const Eigen::Matrix3Xd& 
     for (const auto& hit : hits) candidates.push_back(hit.first);
     // Inside some tet: take it. Otherwise the nearest tet; its barycentric coordinates (slightly
     // negative) extend that tet's affine interpolant, which keeps affine fields exact.
-    const NearestTet nearest = nearestOf(coarse, p, candidates);
-    if (nearest.distance > maxOutside) {
+    NearestTet nearest = nearestOf(coarse, p, candidates);
+    if (nearest.distance > maxOutside && far == FarPoints::Skip) nearest = NearestTet{-1, Eigen::Vector4d::Zero(), nearest.distance};
+    else if (nearest.distance > maxOutside) {
       if (farthest < 0 || nearest.distance > embedding.outside[farthest]) farthest = i;
       ++tooFar;
     }
@@ -179,8 +187,9 @@ Eigen::Matrix3Xd interpolate(const BarycentricEmbedding& embedding, const TetMes
   Eigen::Matrix3Xd result(3, embedding.tet.size());
   for (Eigen::Index i = 0; i < embedding.tet.size(); ++i) {
     const int t = embedding.tet[i];
-    if (t < 0 || t >= coarse.numTets()) throw InvalidInputError("interpolate: embedding references a missing tet");
     result.col(i).setZero();
+    if (t == -1) continue;  // left out (FarPoints::Skip)
+    if (t < 0 || t >= coarse.numTets()) throw InvalidInputError("interpolate: embedding references a missing tet");
     for (int c = 0; c < 4; ++c) result.col(i) += embedding.weights(c, i) * field.col(coarse.tets(c, t));
   }
   return result;

@@ -248,6 +248,7 @@ SceneDescription parseScene(const YAML::Node& root, const std::string& path, con
   readSection(scene, "stamp", [&](MapReader& s) {
     d.stamp.radius = s.positive("radius", d.stamp.radius);
     d.stamp.resolution = s.integer("resolution", d.stamp.resolution, 2);
+    d.stamp.layers = s.integer("layers", d.stamp.layers, 1);
   });
   readSection(scene, "descriptors", [&](MapReader& s) {
     d.descriptors.windowScale = s.positive("window_scale", d.descriptors.windowScale);

@@ -97,7 +97,8 @@ std::string sceneYaml(const SceneDescription& s) {
       << "relative_tolerance" << YAML::Value;
   number(out, s.solve.relativeTolerance) << YAML::EndMap;
   out << YAML::Key << "stamp" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "radius" << YAML::Value;
-  number(out, s.stamp.radius) << YAML::Key << "resolution" << YAML::Value << s.stamp.resolution << YAML::EndMap;
+  number(out, s.stamp.radius) << YAML::Key << "resolution" << YAML::Value << s.stamp.resolution << YAML::Key << "layers"
+                              << YAML::Value << s.stamp.layers << YAML::EndMap;
   out << YAML::Key << "descriptors" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "window_scale"
       << YAML::Value;
   number(out, s.descriptors.windowScale) << YAML::Key << "cutoff" << YAML::Value;

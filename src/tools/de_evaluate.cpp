@@ -28,7 +28,7 @@ using nlohmann::json;
 namespace {
 
 struct Settings {
-  std::string scene = "slab", set, contacts, learningCurve, densitySource = "auto";
+  std::string scene = "slab", set, contacts, learningCurve, densitySource = "auto", blend = "regression";
   bool noFit = false, correlationOnly = false, curves = false, noGain = false, open = false;
   const enrichment::ContactEnricherOptions defaults;
   double gain = 1.0, rimBand = defaults.rimBand, sigmaRho = 0.0, sigmaU = 0.0, shellThickness = 0.0;
@@ -47,6 +47,8 @@ void addOptions(CLI::App& app, Settings& s) {
   app.add_option("--learning-curve", s.learningCurve,
                  "ascending sizes N1,N2,...: score the first N examples of the set for each (a nested plan's prefixes "
                  "are the smaller sets)");
+  app.add_option("--blend", s.blend, "how examples are blended: regression (stamp_regression.hpp) or paper ([Seiler14] "
+                                     "eq. 15 weights + RBF)")->capture_default_str();
   app.add_option("--lambda", s.lambda, "RBF regularisation lambda of (K^2 + lambda^2 I)^-1 K")->check(CLI::PositiveNumber);
   app.add_option("--gain", s.gain, "stamp gain");
   app.add_option("--rim-band", s.rimBand, "StampMapper rim band in [0, 1)");
@@ -180,6 +182,7 @@ void prepare(Evaluation& ev) {
                                                   &ev.densityDescription));
   std::cerr << "site density: " << ev.densityDescription << "\n";
   const bool fixedWidths = s.sigmaRho > 0.0 && s.sigmaU > 0.0;
+  ev.blenderOptions.method = enrichment::parseBlendMethod(s.blend);
   ev.blenderOptions.fitWidths = !s.noFit && !fixedWidths;
   ev.blenderOptions.lambda = s.lambda;
   ev.blenderOptions.crossValidatedGain = !s.noGain;
@@ -212,9 +215,12 @@ json report(const Evaluation& ev, const std::vector<acquisition::PlanEntry>& con
             const json& contactsJson) {
   const Settings& s = ev.settings;
   const enrichment::ExampleBlender& blender = *ev.enricher->blender();
-  const json looFit = blender.fit() ? json{{"error", blender.fit()->bestError}, {"gain", blender.gain()},
-                                           {"error_with_gain", blender.fit()->gainedError}}
-                                    : json(nullptr);
+  json looFit = nullptr;
+  if (const enrichment::StampRegression* r = blender.regression())
+    looFit = {{"error", r->fit().looError}, {"gain", blender.gain()}, {"error_with_gain", r->fit().gainedError},
+              {"regression_sigma_rho", r->fit().sigmaRho}, {"regression_epsilon", r->fit().epsilon}};
+  else if (blender.fit())
+    looFit = {{"error", blender.fit()->bestError}, {"gain", blender.gain()}, {"error_with_gain", blender.fit()->gainedError}};
   return {{"scene", ev.scene.name}, {"source_scene", ev.source}, {"transfer", ev.source != ev.scene.name},
           {"material_similarity", ev.similarity}, {"examples", ev.set.examples.size()}, {"example_set", s.set},
           {"contacts", contacts.size()},
@@ -222,7 +228,8 @@ json report(const Evaluation& ev, const std::vector<acquisition::PlanEntry>& con
           {"stamp_radius", ev.options.stampRadius}, {"open_surface", s.open}, {"site_density", ev.densityDescription},
           {"magnitude_aware", !s.correlationOnly}, {"rim_band", s.rimBand}, {"gain", s.gain}, {"lambda", s.lambda},
           {"surface_vertices", ev.acquisition->fineSurface().vertices.cols()},
-          {"sigma_rho", blender.widths().sigmaRho}, {"sigma_u", blender.widths().sigmaU}, {"leave_one_out", looFit},
+          {"blend", enrichment::toString(blender.method())}, {"sigma_rho", blender.widths().sigmaRho},
+          {"sigma_u", blender.widths().sigmaU}, {"leave_one_out", looFit},
           {"coarse_rms", score.coarseRms}, {"enriched_rms", score.enrichedRms}, {"ratio", score.ratio()},
           {"mean_ratio", score.meanRatio()}, {"worst_ratio", score.worstRatio()},
           {"oracle_mean_ratio", score.meanOracleRatio()}, {"own_stamp_mean_ratio", score.meanOwnStampRatio()},

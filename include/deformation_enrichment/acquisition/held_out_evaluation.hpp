@@ -25,6 +25,7 @@ struct HeldOutCase {
   InteractionResult result;
   cv::Mat ownStamp;             ///< the stamp of this interaction's own example (the acquisition's settings)
   double ownStampRadius = 0.0;
+  int ownStampLayers = 1;
 };
 
 /// Coarse and fine solves of every entry (all entries are checked first) and their own stamps;

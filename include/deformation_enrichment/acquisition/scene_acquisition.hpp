@@ -3,7 +3,8 @@
 // run the COARSE and the FINE quasi-static simulation with the same tool motion, interpolate the coarse
 // solution onto the display surface through the barycentric embedding, take d = fine - coarse there,
 // describe the contact (p, B, R, rho, mu) from the coarse state with the ContactEnricher (the very code the
-// run time uses) and rasterise Psi = B^T R^T d in the example frame. The enricher works on the display
+// run time uses) and store Psi = B^T R^T d in the example frame: d of the volume around the contact on a
+// volume stamp's nodes, or d of the display surface rasterised on a surface stamp (enrichment/stamp.hpp). The enricher works on the display
 // surface; its "current" state is the coarse solution carried onto that surface, here and at run time.
 #include <Eigen/Core>
 #include <iosfwd>
@@ -99,6 +100,9 @@ public:
 
 private:
   Eigen::Matrix3Xd coarseOnFineSurface(const Eigen::Matrix3Xd& coarse) const;
+  /// The volume stamp of an interaction: B^T R^T (fine - coarse) at the stamp's nodes (`toFrame` = B^T R^T).
+  cv::Mat volumeStamp(const InteractionResult& result, const Eigen::Vector3d& p, const Eigen::Matrix3d& B,
+                      const Eigen::Matrix3d& toFrame) const;
   struct Impl;
   scene_file::SceneDescription scene_;
   std::unique_ptr<Impl> impl_;

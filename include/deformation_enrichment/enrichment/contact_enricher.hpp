@@ -141,7 +141,7 @@ public:
 
   /// e of one stamp alone placed at a described contact (eq. 1, the rim rule): what that stamp adds there,
   /// for error bounds that compare stamps with the truth. Shares enrich()'s scratch (same thread rules).
-  void placeStamp(const ContactDescription& description, const cv::Mat& stamp, double radius, SurfaceEnrichment& out);
+  void placeStamp(const ContactDescription& description, const cv::Mat& stamp, double radius, int layers, SurfaceEnrichment& out);
 
   /// s~ = s + e (eq. 1) in place; untouched vertices keep their bits.
   void apply(const EnrichmentResult& result, Eigen::Matrix3Xd& state) const { mapper_.apply(result.enrichment, state); }

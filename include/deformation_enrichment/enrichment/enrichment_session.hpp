@@ -33,6 +33,7 @@ namespace deformation_enrichment::enrichment {
 
 /// The run-time knobs (the node's dynamic_reconfigure parameters).
 struct EnrichmentKnobs {
+  BlendMethod blend = BlendMethod::Regression;  ///< how examples are blended (example_blender.hpp)
   double stampGain = 1.0;
   double sigmaRho = 0.0, sigmaU = 0.0;  ///< <= 0: the set's leave-one-out fitted width
   int hermiteOrder = 0;                 ///< 0: the order the set was built with
@@ -99,6 +100,7 @@ struct SessionDiagnostics {
   bool hasExamples = false;
   int hermiteOrder = 0;               ///< in use (0: no enricher)
   KernelWidths widths, fittedWidths;
+  std::string blend;                  ///< the active blend ("paper", "regression"; empty: no enricher)
   std::uint64_t statesReused = 0;
 };
 

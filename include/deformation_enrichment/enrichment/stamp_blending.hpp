@@ -14,7 +14,8 @@
 // every stamp radius are not touched at all (not returned, their state untouched bit for bit). Given rest
 // triangles, a stamp reaches only the vertices of its ball connected to the contact through the surface
 // (edges with both ends in the ball), so it does not bleed across a narrow cut or through a thin wall; given
-// rest normals, back-facing vertices (n . b_z < 0) among those are not touched either.
+// rest normals, a surface stamp leaves back-facing vertices (n . b_z < 0) among those untouched (it would give
+// them the value of the side it was rasterised from), while a volume stamp gives them their own.
 #include <Eigen/Core>
 #include <algorithm>
 #include <memory>
@@ -32,7 +33,7 @@ namespace deformation_enrichment::enrichment {
 /// sizes or types that differ, a weight count that differs, or NaN weights.
 cv::Mat blendStamps(const std::vector<cv::Mat>& stamps, const Eigen::VectorXd& weights);
 
-/// eq. (16) over an example set; the examples must share stamp size and radius (returned in `radius`).
+/// eq. (16) over an example set; the examples must share stamp size, layers and radius (returned in `radius`).
 cv::Mat blendExampleStamps(const std::vector<examples::Example>& examples, const Eigen::VectorXd& weights, double& radius);
 
 /// One contact's blended stamp placed on the surface.
@@ -40,8 +41,9 @@ struct ContactStamp {
   Eigen::Vector3d contact = Eigen::Vector3d::Zero();            ///< p, rest-state position
   Eigen::Matrix3d frame = Eigen::Matrix3d::Identity();          ///< B, rest axes
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();       ///< R, rest axes -> deformed axes
-  cv::Mat stamp;                                                ///< Psi, CV_32FC3 over [-radius, radius]^2
+  cv::Mat stamp;                                                ///< Psi, CV_32FC3 (stamp.hpp)
   double radius = 0.0;
+  int layers = 1;                                               ///< 1: surface stamp, >= 2: volume stamp
 };
 
 /// The enrichment e restricted to the vertices it touches.

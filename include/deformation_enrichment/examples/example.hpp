@@ -27,8 +27,10 @@ struct Example {
   hermite::MomentList mu;                                 ///< deformation descriptor in frame B[i]
   /// Psi[i]: CV_32FC3, rows x cols nodes spanning [-R, R]^2 (node (0,0) at (-R,-R), column index along
   /// b_x, row index along b_y), displacement (m) in frame coordinates.
+  /// A volume stamp (stampLayers >= 2, enrichment/stamp.hpp) stacks its square layers along the rows.
   cv::Mat stamp;
   double stampRadius = 0.0;  ///< R (m)
+  int stampLayers = 1;       ///< 1: the paper's surface stamp; >= 2: volume stamp layers over [-R, R] along b_z
   InteractionPattern pattern;
   std::string sceneId;
   int planLine = -1;  ///< 0-based line of the acquisition plan (orders merged shards); -1 unknown
@@ -58,7 +60,7 @@ struct ExampleSet {
 
 /// Empty if the example is well formed, otherwise a message naming the first problem: non-finite
 /// contact/frame/descriptors/pattern, frame not orthonormal and right-handed (tolerance 1e-6), radius not
-/// positive and finite, stamp not CV_32FC3 with at least 2x2 nodes, non-finite stamp values.
+/// positive and finite, stamp not CV_32FC3 with at least 2x2 nodes (per layer), non-finite stamp values.
 std::string exampleProblem(const Example& example);
 
 /// Throws InvalidInputError with exampleProblem's message (prefixed by `what`) when it is not empty.

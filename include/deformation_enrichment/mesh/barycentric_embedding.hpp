@@ -30,7 +30,11 @@ struct BarycentricEmbedding {
 /// next to a large one gets the small one). Throws InvalidInputError for an invalid mesh, non-finite
 /// points, or points farther than `maxOutside` (metres) from the coarse mesh: the message says how many
 /// and how far the farthest is.
-BarycentricEmbedding embedPoints(const TetMesh& coarse, const Eigen::Matrix3Xd& points, double maxOutside);
+/// With FarPoints::Skip, points farther than `maxOutside` are not refused but left out: tet -1, weights 0,
+/// `outside` infinity (a grid around a surface, most of it in the air).
+enum class FarPoints { Refuse, Skip };
+BarycentricEmbedding embedPoints(const TetMesh& coarse, const Eigen::Matrix3Xd& points, double maxOutside,
+                                 FarPoints far = FarPoints::Refuse);
 
 /// One line for logs: "37 of 5000 points outside the coarse mesh, up to 0.0021 m (mean 0.0008 m)".
 std::string describe(const EmbeddingReport& report, Eigen::Index points);
@@ -38,8 +42,8 @@ std::string describe(const EmbeddingReport& report, Eigen::Index points);
 /// Barycentric coordinates of p in tet t (may be negative; sum to one).
 Eigen::Vector4d barycentricCoordinates(const TetMesh& mesh, Eigen::Index t, const Eigen::Vector3d& p);
 
-/// Interpolates a per-vertex field of the coarse mesh (3 x V, e.g. a displacement) at the embedded points.
-/// Exact for affine fields. Throws InvalidInputError if `field` does not have `coarseVertexCount` columns
+/// Interpolates a per-vertex field of the coarse mesh (3 x V, e.g. a displacement) at the embedded points
+/// (zero at points left out). Exact for affine fields. Throws InvalidInputError if `field` does not have `coarseVertexCount` columns
 /// or the embedding references a vertex beyond it.
 Eigen::Matrix3Xd interpolate(const BarycentricEmbedding& embedding, const TetMesh& coarse, const Eigen::Matrix3Xd& field);
 

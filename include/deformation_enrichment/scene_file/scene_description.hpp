@@ -53,6 +53,7 @@ struct Solve {
 struct StampGrid {
   double radius = 0.03;  ///< R (m)
   int resolution = 32;   ///< nodes per side
+  int layers = 9;        ///< volume stamp layers along b_z (enrichment/stamp.hpp); 1: the paper's surface stamp
 };
 
 /// Descriptor options of the examples (and so of the run time, which takes them from the set).

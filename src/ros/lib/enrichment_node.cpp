@@ -282,6 +282,8 @@ void EnrichmentNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& statu
   status.add("max compute [ms]", maxComputeMs_);
   status.add("states reused (unchanged input)", session.statesReused);
   status.add("last error", lastError_);
+  status.add("blend requested", enrichment::toString(knobs.blend));
+  status.add("blend", session.blend);
   status.add("stamp gain", knobs.stampGain);
   status.add("hermite order requested (0 = set's)", knobs.hermiteOrder);
   if (session.hermiteOrder > 0) {

@@ -61,9 +61,19 @@ bool EnrichmentNode::onLoadExampleSet(LoadExampleSet::Request& request, LoadExam
 }
 
 void EnrichmentNode::onReconfigure(EnrichmentConfig& config, uint32_t /*level*/) {
-  enrichment::EnrichmentKnobs requested{config.stamp_gain,    config.sigma_rho,      config.sigma_u,
-                                        config.hermite_order, config.min_confidence, config.temporal_smoothing};
   const enrichment::EnrichmentKnobs kept = session_->knobs();
+  enrichment::EnrichmentKnobs requested = kept;
+  requested.stampGain = config.stamp_gain;
+  requested.sigmaRho = config.sigma_rho;
+  requested.sigmaU = config.sigma_u;
+  requested.hermiteOrder = config.hermite_order;
+  requested.minConfidence = config.min_confidence;
+  requested.temporalSmoothing = config.temporal_smoothing;
+  try {
+    requested.blend = enrichment::parseBlendMethod(config.blend);
+  } catch (const Error& e) {
+    ROS_ERROR("%s: keeping blend %s", e.what(), enrichment::toString(kept.blend));
+  }
   try {
     session_->setKnobs(requested);
     return;
@@ -90,6 +100,7 @@ void EnrichmentNode::onReconfigure(EnrichmentConfig& config, uint32_t /*level*/)
   config.hermite_order = requested.hermiteOrder;
   config.min_confidence = requested.minConfidence;
   config.temporal_smoothing = requested.temporalSmoothing;
+  config.blend = enrichment::toString(requested.blend);
 }
 
 enrichment::ToolTip EnrichmentNode::loadToolTip(const std::string& link, std::string& status) const {

@@ -51,6 +51,12 @@ void readSession(const ros::NodeHandle& nh, EnrichmentNodeParameters& p) {
 
 void readKnobs(const ros::NodeHandle& nh, enrichment::EnrichmentKnobs& k) {
   // Start-up values; the reconfigure server reads the same parameters (its ranges apply later).
+  const std::string blend = nh.param<std::string>("blend", enrichment::toString(k.blend));
+  try {
+    k.blend = enrichment::parseBlendMethod(blend);
+  } catch (const Error& e) {
+    ROS_ERROR("~blend: %s; using %s", e.what(), enrichment::toString(k.blend));
+  }
   k.stampGain = checked(nh, "stamp_gain", k.stampGain, nonNegative, ">= 0");
   k.sigmaRho = checked(nh, "sigma_rho", k.sigmaRho, [](double v) { return std::isfinite(v); }, "finite");
   k.sigmaU = checked(nh, "sigma_u", k.sigmaU, [](double v) { return std::isfinite(v); }, "finite");

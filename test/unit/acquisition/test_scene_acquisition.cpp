@@ -64,7 +64,9 @@ TEST(SceneAcquisition, FineDetailIsCapturedAndReproducedByTheEnricher) {
   EXPECT_TRUE(r.converged) << r.message;
   const examples::Example ex = acq.makeExample(e, r);
   EXPECT_NO_THROW(examples::validateExample(ex));
-  EXPECT_EQ(ex.stamp.rows, 16);
+  EXPECT_EQ(ex.stampLayers, 9);  // the default volume stamp: 9 layers of 16 x 16 nodes
+  EXPECT_EQ(ex.stamp.rows, 16 * 9);
+  EXPECT_EQ(ex.stamp.cols, 16);
   EXPECT_DOUBLE_EQ(ex.stampRadius, acq.scene().stamp.radius);
   EXPECT_NEAR(ex.frame.col(2).z(), 1.0, 1e-6);
   const double dMax = (r.fine - r.coarseOnFine).cwiseAbs().maxCoeff();

@@ -195,3 +195,60 @@ TEST(Stamp, BadInputThrows) {
   q(0, 0) = std::nan("");
   EXPECT_THROW(en::lookUpStamp(cv::Mat(4, 4, CV_32FC3), 1.0, q, out), de::InvalidInputError);
 }
+
+TEST(VolumeStamp, AffineFieldIsReproducedByTrilinearLookUp) {
+  const Eigen::Vector3d p(0.01, -0.02, 0.03);
+  const Eigen::Matrix3d B = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  const double R = 0.02;
+  const int n = 6, layers = 5;
+  const Eigen::Matrix3Xd nodes = en::volumeStampNodes(p, B, R, n, layers);
+  ASSERT_EQ(nodes.cols(), n * n * layers);
+  Eigen::Matrix3d A;
+  A << 0.1, -0.2, 0.3, 0.05, 0.4, -0.1, 0.2, 0.0, -0.3;
+  const Eigen::Vector3d c(1e-3, -2e-3, 5e-4);
+  const auto field = [&](const Eigen::Vector3d& local) { return Eigen::Vector3d(A * local + c); };
+  Eigen::Matrix3Xd values(3, nodes.cols());
+  for (Eigen::Index i = 0; i < nodes.cols(); ++i) values.col(i) = field(B.transpose() * (nodes.col(i) - p));
+  const cv::Mat stamp = en::volumeStampFromNodes(values, std::vector<char>(static_cast<std::size_t>(nodes.cols()), 1), n, layers);
+  ASSERT_EQ(stamp.rows, n * layers);
+  ASSERT_EQ(stamp.cols, n);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-R, R);
+  for (int k = 0; k < 200; ++k) {
+    const Eigen::Vector3d local(u(rng), u(rng), u(rng));
+    const Eigen::Vector3d got = en::sampleVolumeStamp(stamp, R, layers, local.x(), local.y(), local.z());
+    EXPECT_LT((got - field(local)).norm(), 1e-6) << local.transpose();  // float storage
+  }
+  EXPECT_EQ(en::sampleVolumeStamp(stamp, R, layers, 0.0, 0.0, 1.01 * R), Eigen::Vector3d::Zero());  // outside the cube
+  EXPECT_EQ(en::sampleVolumeStamp(stamp, R, layers, 1.01 * R, 0.0, 0.0), Eigen::Vector3d::Zero());
+}
+
+TEST(VolumeStamp, NodesOutsideTheObjectTakeTheNearestKnownValue) {
+  // Known below the middle layer only (the object), with a value that depends on the column: the air above
+  // takes the top known layer's value column by column, so look-up just below the surface is exact.
+  const int n = 4, layers = 5;
+  Eigen::Matrix3Xd values = Eigen::Matrix3Xd::Zero(3, n * n * layers);
+  std::vector<char> known(static_cast<std::size_t>(values.cols()), 0);
+  for (int l = 0; l <= 2; ++l)
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k) {
+        const int i = (l * n + j) * n + k;
+        values.col(i) = Eigen::Vector3d(k + 10.0 * j, l, 1.0);
+        known[static_cast<std::size_t>(i)] = 1;
+      }
+  const cv::Mat stamp = en::volumeStampFromNodes(values, known, n, layers);
+  for (int l = 3; l < layers; ++l)
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k) {
+        const cv::Vec3f v = stamp.at<cv::Vec3f>(l * n + j, k);
+        EXPECT_FLOAT_EQ(v[0], static_cast<float>(k + 10.0 * j));
+        EXPECT_FLOAT_EQ(v[1], 2.0f);  // the top known layer
+      }
+  EXPECT_THROW(en::volumeStampFromNodes(values, std::vector<char>(known.size(), 0), n, layers), de::InvalidInputError);
+  EXPECT_THROW(en::volumeStampFromNodes(values, std::vector<char>(3, 1), n, layers), de::InvalidInputError);
+  Eigen::Matrix3Xd bad = values;
+  bad(0, 0) = std::nan("");
+  EXPECT_THROW(en::volumeStampFromNodes(bad, known, n, layers), de::InvalidInputError);
+  EXPECT_THROW(en::checkStamp(stamp, 0.02, 4, "test"), de::InvalidInputError);  // 5 layers, not 4
+  EXPECT_NO_THROW(en::checkStamp(stamp, 0.02, layers, "test"));
+}

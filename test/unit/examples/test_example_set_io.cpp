@@ -117,8 +117,30 @@ TEST_F(ExampleSetIo, RoundTripIsExact) {
     EXPECT_EQ(a.pattern.drag, b.pattern.drag);
     EXPECT_EQ(a.sceneId, b.sceneId);
     ASSERT_EQ(a.stamp.size(), b.stamp.size());
+    EXPECT_EQ(a.stampLayers, b.stampLayers);
     EXPECT_EQ(cv::norm(a.stamp, b.stamp, cv::NORM_INF), 0.0);
   }
+}
+
+TEST_F(ExampleSetIo, VolumeStampLayersRoundTripAndMustDivideTheRows) {
+  ex::ExampleSet set = makeSet();
+  for (ex::Example& e : set.examples) {
+    e.stamp = cv::Mat(3 * e.stamp.cols, e.stamp.cols, CV_32FC3, cv::Scalar(1e-4, -2e-4, 3e-4));
+    e.stampLayers = 3;
+  }
+  ex::saveExampleSet(set, dir_.string());
+  const ex::ExampleSet loaded = ex::loadExampleSet(dir_.string());
+  for (const ex::Example& e : loaded.examples) {
+    EXPECT_EQ(e.stampLayers, 3);
+    EXPECT_EQ(e.stamp.rows, 3 * e.stamp.cols);
+  }
+  nlohmann::json m = manifest();
+  m["examples"][0]["stamp_layers"] = 2;
+  writeManifest(m);
+  expectRejected("stamp_layers");
+  for (auto& e : m["examples"]) e.erase("stamp_layers");  // sets without the field hold surface stamps: any row count
+  writeManifest(m);
+  EXPECT_EQ(ex::loadExampleSet(dir_.string()).examples[0].stampLayers, 1);
 }
 
 TEST_F(ExampleSetIo, TruncatedBlobIsRejected) {

@@ -110,3 +110,24 @@ TEST(BarycentricEmbedding, RefusalSaysHowManyAndHowFar) {
     EXPECT_NE(message.find("point 2, is 2 m away"), std::string::npos) << message;
   }
 }
+
+TEST(BarycentricEmbedding, FarPointsAreLeftOutWhenAskedAndInterpolateToZero) {
+  const mesh::TetMesh coarse = mesh::gridTetMesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones(), Eigen::Vector3i(2, 2, 2));
+  Eigen::Matrix3Xd points(3, 4);
+  points << 0.5, 3.0, 1.05, 1.5,  //
+      0.5, 0.5, 0.5, 0.5,         //
+      0.5, 0.5, 0.5, 0.5;         // inside, far away, just outside (kept), outside beyond reach
+  const mesh::BarycentricEmbedding embedding = mesh::embedPoints(coarse, points, 0.1, mesh::FarPoints::Skip);
+  EXPECT_GE(embedding.tet[0], 0);
+  EXPECT_EQ(embedding.tet[1], -1);
+  EXPECT_GE(embedding.tet[2], 0);
+  EXPECT_EQ(embedding.tet[3], -1);
+  EXPECT_TRUE(std::isinf(embedding.outside[1]));
+  EXPECT_NEAR(embedding.report.maxDistance, 0.05, 1e-12);  // left-out points are not in the report
+  const Eigen::Matrix3Xd back = mesh::interpolate(embedding, coarse, coarse.vertices);
+  EXPECT_LT((back.col(0) - points.col(0)).norm(), 1e-14);
+  EXPECT_LT((back.col(2) - points.col(2)).norm(), 1e-14);  // the affine extension
+  EXPECT_EQ(back.col(1), Eigen::Vector3d::Zero());
+  EXPECT_EQ(back.col(3), Eigen::Vector3d::Zero());
+  EXPECT_THROW(mesh::embedPoints(coarse, points, 0.1), InvalidInputError);  // the default still refuses
+}
