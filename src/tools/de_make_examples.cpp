@@ -41,10 +41,11 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_option("--shard", shardText, "acquire every N-th plan line starting at line I (I/N, 1-based)");
   // Overrides of the scene file, for experiments; recorded in the set's provenance like the file's values.
-  std::optional<int> resolution;
+  std::optional<int> resolution, layers;
   std::optional<double> stampRadius, toolRadius, toolStiffness, coarseSkinYoung;
   std::optional<std::string> quadrature, toolModel;
   app.add_option("--stamp-resolution", resolution, "stamp nodes per side")->check(CLI::Range(2, 4096));
+  app.add_option("--stamp-layers", layers, "stamp layers along the normal (1: the paper's surface stamp)")->check(CLI::Range(1, 64));
   app.add_option("--stamp-radius", stampRadius, "stamp radius R (m)")->check(CLI::PositiveNumber);
   app.add_option("--tool-radius", toolRadius, "tool footprint radius (m)")->check(CLI::PositiveNumber);
   app.add_option("--tool-stiffness", toolStiffness, "penalty tool stiffness per area (Pa/m)")->check(CLI::PositiveNumber);
@@ -59,6 +60,7 @@ int main(int argc, char** argv) {
     const acquisition::Shard shard = parseShard(shardText);
     scene_file::SceneDescription scene = scene_file::readSceneFile(scene_file::findSceneFile(sceneName));
     if (resolution) scene.stamp.resolution = *resolution;
+    if (layers) scene.stamp.layers = *layers;
     if (stampRadius) scene.stamp.radius = *stampRadius;
     if (toolRadius) scene.tool.radius = *toolRadius;
     if (toolStiffness) scene.tool.stiffness = *toolStiffness;
