@@ -11,6 +11,7 @@ namespace deformation_enrichment::enrichment {
 struct EnrichmentSession::Built {
   std::unique_ptr<ContactEnricher> enricher;  ///< null without an example set
   std::string siteDensity;                    ///< how rho's samples were made
+  double materialSimilarity = 1.0;            ///< scales the stamps (SessionOptions::scene)
   std::uint64_t restVersion = 0, configVersion = 0;
 };
 

@@ -7,6 +7,7 @@
 #include "deformation_enrichment/enrichment/descriptor_order.hpp"
 #include "deformation_enrichment/enrichment/enrichment_session.hpp"
 #include "deformation_enrichment/enrichment/example_set_options.hpp"
+#include "deformation_enrichment/enrichment/material_similarity.hpp"
 #include "deformation_enrichment/enrichment/surface_enricher.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/surface_report.hpp"
@@ -79,10 +80,13 @@ std::unique_ptr<EnrichmentSession::Built> EnrichmentSession::build(const RestSur
   const int built = options.descriptors.deformationOrder;
   const int order = knobs.hermiteOrder > 0 ? std::min(knobs.hermiteOrder, built) : built;
   options.descriptors.deformationOrder = order;
-  options.stampGain = knobs.stampGain;
+  auto result = std::make_unique<Built>();
+  // The descriptors see geometry only: detail acquired on another material fades with its difference.
+  if (options_.scene && set.metadata.provenance)
+    result->materialSimilarity = materialSimilarity(set.metadata.provenance->scene, *options_.scene);
+  options.stampGain = knobs.stampGain * result->materialSimilarity;
   options.minConfidence = knobs.minConfidence;
   const mesh::TetMesh* volume = rest.geometry.volume ? &*rest.geometry.volume : nullptr;
-  auto result = std::make_unique<Built>();
   result->enricher = std::make_unique<ContactEnricher>(
       surfaceEnricher(rest.geometry.surface, volume, options, options_.density, &result->siteDensity));
   ExampleBlenderOptions blending;
@@ -282,6 +286,7 @@ SessionDiagnostics EnrichmentSession::diagnostics() const {
     d.widths = enricher.blender()->widths();
     d.fittedWidths = enricher.loadedWidths();
     d.blend = toString(enricher.blender()->method());
+    d.materialSimilarity = enricher_->materialSimilarity;
   }
   return d;
 }

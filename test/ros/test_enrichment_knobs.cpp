@@ -22,12 +22,14 @@ using enrichment_test::waitFor;
 class EnrichmentKnobsTest : public enrichment_test::EnrichmentNodeTest {
 protected:
   void TearDown() override {  // one node serves every test: leave the knobs at their defaults
-    reconfigure({{"stamp_gain", 1.0}, {"sigma_rho", 0.0}, {"sigma_u", 0.0}}, {{"hermite_order", 0}});
+    reconfigure({{"stamp_gain", 1.0}, {"sigma_rho", 0.0}, {"sigma_u", 0.0}}, {{"hermite_order", 0}},
+                {{"blend", "regression"}});
   }
 
   /// Calls ~set_parameters; returns the configuration the node reports back.
   dynamic_reconfigure::Config reconfigure(const std::map<std::string, double>& doubles,
-                                          const std::map<std::string, int>& ints = {}) {
+                                          const std::map<std::string, int>& ints = {},
+                                          const std::map<std::string, std::string>& strings = {}) {
     dynamic_reconfigure::Reconfigure call;
     for (const auto& [name, value] : doubles) {
       dynamic_reconfigure::DoubleParameter p;
@@ -41,6 +43,12 @@ protected:
       p.value = value;
       call.request.config.ints.push_back(p);
     }
+    for (const auto& [name, value] : strings) {
+      dynamic_reconfigure::StrParameter p;
+      p.name = name;
+      p.value = value;
+      call.request.config.strs.push_back(p);
+    }
     EXPECT_TRUE(ros::service::waitForService("enrichment/set_parameters", 10000));
     EXPECT_TRUE(ros::service::call("enrichment/set_parameters", call));
     return call.response.config;
@@ -52,6 +60,11 @@ protected:
     return -1;
   }
 
+  static std::string stringIn(const dynamic_reconfigure::Config& config, const std::string& name) {
+    for (const auto& p : config.strs)
+      if (p.name == name) return p.value;
+    return {};
+  }
 
 
   /// Publishes a contact at (x, 0, z) and returns its stamp once the node has it (states stamped up to
@@ -189,6 +202,26 @@ TEST_F(EnrichmentKnobsTest, LowerHermiteOrderTruncatesHigherIsRefusedKeepingTheO
   EXPECT_TRUE(logged("hermite_order 3 refused"));
   EXPECT_EQ(diagnosticValue("hermite order"), "1");
   EXPECT_GT(addedAt(dented, contact, 0.1).cols(), 0) << "the node keeps enriching after a refused order";
+}
+
+TEST_F(EnrichmentKnobsTest, AnUnknownBlendIsRefusedKeepingTheBlendInUse) {
+  setRest(slabSurface(20));
+  const std::string directory = ::testing::TempDir() + "de_knobs_blend_set";
+  const Eigen::Matrix3Xd dented = makeDentExampleSet(rest_, directory);
+  loadSet(directory);
+
+  dynamic_reconfigure::Config reply = reconfigure({}, {}, {{"blend", "paper"}});
+  EXPECT_EQ(stringIn(reply, "blend"), "paper");
+  EXPECT_EQ(diagnosticAfterChange("blend requested", "paper"), "paper");
+
+  reply = reconfigure({}, {}, {{"blend", "nearest"}});
+  EXPECT_EQ(stringIn(reply, "blend"), "paper") << "a blend that does not exist must be refused, keeping the old one";
+  EXPECT_TRUE(logged("blend 'nearest' does not exist"));
+  EXPECT_EQ(diagnosticValue("blend requested"), "paper");
+  const ros::Time contact = touch(0.0, 0.018);
+  const Eigen::Matrix3Xf added = addedAt(dented, contact);
+  ASSERT_GT(added.cols(), 0) << "the node keeps enriching after a refused blend";
+  EXPECT_TRUE(added.allFinite());
 }
 
 TEST_F(EnrichmentKnobsTest, UnchangedInputIsRepublishedWithoutRecomputingAChangedOneRecomputes) {

@@ -28,6 +28,7 @@
 #include "deformation_enrichment/examples/example.hpp"
 #include "deformation_enrichment/mesh/tet_mesh.hpp"
 #include "deformation_enrichment/mesh/triangle_mesh.hpp"
+#include "deformation_enrichment/scene_file/scene_description.hpp"
 
 namespace deformation_enrichment::enrichment {
 
@@ -51,6 +52,10 @@ struct SessionOptions {
   /// acquisition); a shellThickness <= 0 means three window scales of the set.
   descriptors::SiteDensityOptions density{descriptors::SiteDensitySource::Auto, 0.0015, 0.0, 0.002};
   ContactContinuityOptions continuity;
+  /// The tissue being enriched, when known: a set acquired on another material has its stamps scaled by
+  /// materialSimilarity(set's scene, this scene) (material_similarity.hpp); none, or a set without
+  /// provenance: 1.
+  std::optional<scene_file::SceneDescription> scene;
   /// Receives what the worker did (a rest surface built or refused); called from the worker thread.
   std::function<void(SessionLogLevel, const std::string&)> log;
 };
@@ -101,6 +106,7 @@ struct SessionDiagnostics {
   int hermiteOrder = 0;               ///< in use (0: no enricher)
   KernelWidths widths, fittedWidths;
   std::string blend;                  ///< the active blend ("paper", "regression"; empty: no enricher)
+  double materialSimilarity = 1.0;    ///< the active set's stamp scale for the scene's material
   std::uint64_t statesReused = 0;
 };
 

@@ -284,6 +284,7 @@ void EnrichmentNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& statu
   status.add("last error", lastError_);
   status.add("blend requested", enrichment::toString(knobs.blend));
   status.add("blend", session.blend);
+  status.add("material similarity (stamp scale)", session.materialSimilarity);
   status.add("stamp gain", knobs.stampGain);
   status.add("hermite order requested (0 = set's)", knobs.hermiteOrder);
   if (session.hermiteOrder > 0) {

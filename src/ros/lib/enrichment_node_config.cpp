@@ -17,6 +17,7 @@ std::optional<enrichment::RestGeometry> EnrichmentNode::startupRest() {
       scenes::SceneGeometry geometry = scenes::sceneGeometry(scene);
       if (!parameters_.maxOutside) parameters_.session.density.maxOutside = scene.maxOutside;
       sceneVolume_ = geometry.volume;
+      parameters_.session.scene = scene;
       ROS_INFO("scene '%s': %s", parameters_.scene.c_str(), geometry.report.c_str());
       return enrichment::RestGeometry{std::move(geometry.surface), std::move(geometry.volume), "scene " + scene.name};
     } catch (const Error& e) {
@@ -74,9 +75,9 @@ void EnrichmentNode::onReconfigure(EnrichmentConfig& config, uint32_t /*level*/)
   } catch (const Error& e) {
     ROS_ERROR("%s: keeping blend %s", e.what(), enrichment::toString(kept.blend));
   }
+  // Whatever is refused, the reply (and rqt_reconfigure) shows the values in use.
   try {
     session_->setKnobs(requested);
-    return;
   } catch (const Error& e) {
     if (requested.hermiteOrder == kept.hermiteOrder) {
       ROS_ERROR("reconfiguration refused: %s (keeping stamp_gain %g, sigma_rho %g, sigma_u %g, min_confidence %g, "

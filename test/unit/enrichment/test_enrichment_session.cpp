@@ -6,6 +6,7 @@
 
 #include "enricher_test_support.hpp"
 
+#include <cmath>
 #include <limits>
 #include <mutex>
 #include <optional>
@@ -307,4 +308,35 @@ TEST(EnrichmentSession, KnobsApplyFromTheNextStateAndBadOnesChangeNothing) {
   session->setKnobs(lower);
   EXPECT_EQ(session->diagnostics().hermiteOrder, 1);
   EXPECT_EQ(session->enrich(state, tools, 1.2).kind, FrameResult::Kind::Enriched);
+}
+
+TEST(EnrichmentSession, ASetOfAnotherMaterialIsScaledByTheMaterialSimilarity) {
+  const mesh::TriangleMesh rest = de_test::slabSurface();
+  examples::ExampleSet set = sessionSet();
+  set.metadata.provenance = examples::Provenance{};
+  set.metadata.provenance->scene.material = {1e4, 0.45};
+  const auto addedFor = [&](std::optional<scene_file::SceneDescription> scene, double& similarity) {
+    enrichment::SessionOptions options = sessionOptions();
+    options.scene = std::move(scene);
+    EnrichmentSession session(options);
+    session.setExampleSet(set);
+    session.setRestGeometry({rest, std::nullopt, "test"});
+    session.waitForRebuild();
+    similarity = session.diagnostics().materialSimilarity;
+    const Eigen::Matrix3Xf state = dentedState(rest);
+    EXPECT_EQ(session.enrich(state, toolAt(state, rest), 1.0).kind, FrameResult::Kind::Enriched);
+    return Eigen::Matrix3Xf(session.enrichedPositions() - state);
+  };
+  double same = 0.0, softer = 0.0, unknown = 0.0;
+  scene_file::SceneDescription tissue = set.metadata.provenance->scene;
+  const Eigen::Matrix3Xf full = addedFor(tissue, same);
+  tissue.material.young = 1.5e4;  // bulk and (no skin) skin 1.5 times stiffer: exp(-1/2)
+  const Eigen::Matrix3Xf scaled = addedFor(tissue, softer);
+  const Eigen::Matrix3Xf withoutScene = addedFor(std::nullopt, unknown);
+  EXPECT_DOUBLE_EQ(same, 1.0);
+  EXPECT_DOUBLE_EQ(unknown, 1.0);
+  EXPECT_NEAR(softer, std::exp(-0.5), 1e-12);
+  ASSERT_GT(full.norm(), 0.0f);
+  EXPECT_NEAR(scaled.norm(), std::exp(-0.5) * full.norm(), 1e-3 * full.norm());
+  EXPECT_TRUE(withoutScene == full) << "no scene: the stamps as acquired";
 }
