@@ -4,6 +4,8 @@
 //     state touches a new rest point, so the rest-point caches miss; one site, as a sliding tool makes): float
 //     state in, continuity, the enricher, enriched float state out; next to
 //     Session/Copy/50k, copying the float state (what publishing an unchanged state costs at least).
+//   Session/Examples128/50k vs Session/Examples10/50k: the sliding state with 128 and with 10 examples of the
+//     slab scene's volume stamps (stamp.layers layers of 32 x 32) blended by the default regression.
 //   Session/OpenVolume/50k: the same on the slab's top face alone (open) with the slab's tets as its volume.
 //   Rebuild/Offthread/50k vs Rebuild/Onthread/50k: a new rest surface (a cut: another topology of ~50k
 //     vertices) arrives while states come at 60 Hz. The reported time of an iteration is the longest delay of
@@ -75,6 +77,19 @@ void BM_SessionEnrichMoving(benchmark::State& state) {
   auto s = session(scene.surface);
   const Eigen::Matrix3Xf current = scene.current.cast<float>();
   enrichSliding(state, *s, current, scene.contact);
+}
+
+// `count` examples with the slab scene's volume stamps.
+void BM_SessionExamples(benchmark::State& state, int count) {
+  const de_bench::SlabBenchScene& scene = de_bench::slabBenchScene();
+  const de::scene_file::SceneDescription slab = de::scene_file::readSceneFile(de::scene_file::findSceneFile("slab"));
+  de::enrichment::EnrichmentSession s{de::enrichment::SessionOptions()};
+  s.setExampleSet(de_bench::slabBenchSet(scene.surface, scene.options, slab, count, slab.stamp.layers));
+  s.setRestGeometry({scene.surface, std::nullopt, "bench"});
+  s.waitForRebuild();
+  const Eigen::Matrix3Xf current = scene.current.cast<float>();
+  enrichSliding(state, s, current, scene.contact);
+  state.counters["examples"] = count;
 }
 
 // The slab's top face alone (an open surface, every vertex kept) given the slab's tet mesh as its volume: the
@@ -185,6 +200,8 @@ void BM_RebuildOnthread(benchmark::State& state) {
 
 BENCHMARK(BM_SessionEnrichMoving)->Name("Session/EnrichMoving/50k")->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SessionEnrichMovingOpen)->Name("Session/OpenVolume/50k")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_SessionExamples, many, 128)->Name("Session/Examples128/50k")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_SessionExamples, few, 10)->Name("Session/Examples10/50k")->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SessionCopy)->Name("Session/Copy/50k")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_ScaleBuild, large, 700)->Name("Scale/1M/Build")->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(1);
 BENCHMARK_CAPTURE(BM_ScaleBuild, small, 150)->Name("Scale/50k/Build")->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(1);
@@ -199,6 +216,7 @@ int main(int argc, char** argv) {
   benchmark::RunSpecifiedBenchmarks(&reporter);
   reporter.printRatios("EnrichMoving", "Copy");
   reporter.printRatios("OpenVolume", "EnrichMoving");
+  reporter.printRatios("Examples128", "Examples10");
   reporter.printRatios("Offthread", "Onthread");
   reporter.printRatios("1M", "50k");
   std::printf("(Rebuild: the longest delay of an output behind its input at 60 Hz while a new 50k-vertex rest surface is "

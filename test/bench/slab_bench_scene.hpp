@@ -1,7 +1,8 @@
 #pragma once
 // The run-time benchmarks' scene: a ~50k-vertex slab surface (150 x 150 x 3 cells), the default slab scene's
-// descriptor options, 10 examples described on it with random 32 x 32 stamps (a set that records the slab
-// scene, as acquired sets do), and a dented, dragged current state under a contact.
+// descriptor options, 10 examples described on it with random 32 x 32 surface stamps (a set that records the
+// slab scene, as acquired sets do), and a dented, dragged current state under a contact. slabBenchSet gives
+// larger sets with the scene's volume stamps (stamp.layers) for the cost of the number of examples.
 #include <opencv2/core.hpp>
 
 #include <cmath>
@@ -46,6 +47,33 @@ struct SlabBenchScene {
   Eigen::Vector3d contact;
 };
 
+/// `count` examples described on `surface` at contacts spread over the slab's top, depths 2-4.5 mm and small
+/// drags, with random stamps of `layers` layers of 32 x 32 nodes.
+inline de::examples::ExampleSet slabBenchSet(const de::mesh::TriangleMesh& surface, const de::enrichment::ContactEnricherOptions& options,
+                                             const de::scene_file::SceneDescription& slab, int count, int layers) {
+  de::enrichment::ContactEnricher describer(surface, options);
+  de::examples::ExampleSet set;
+  set.metadata.provenance = de::examples::Provenance{slab, {}};
+  cv::RNG rng(1);
+  for (int i = 0; i < count; ++i) {
+    de::enrichment::Contact c;
+    c.point = Eigen::Vector3d(-0.02 + 0.004 * (i % 10) + 0.0004 * (i / 10), 0.01 * std::sin(i), 0.02);
+    const Eigen::Vector3d drag(0.0005 * (i % 3), 0.0005 * (i % 2), 0.0);
+    const de::enrichment::ContactDescription d = describer.describe(dented(surface.vertices, c.point, 0.002 + 0.0002 * (i % 13), drag), c);
+    de::examples::Example e;
+    e.contact = d.p;
+    e.frame = d.B;
+    e.rho = d.rho;
+    e.mu = d.mu;
+    e.stampRadius = options.stampRadius;
+    e.stampLayers = layers;
+    e.stamp.create(32 * layers, 32, CV_32FC3);
+    rng.fill(e.stamp, cv::RNG::NORMAL, cv::Scalar::all(0.0), cv::Scalar::all(1e-4));
+    set.examples.push_back(e);
+  }
+  return set;
+}
+
 inline const SlabBenchScene& slabBenchScene() {
   static std::unique_ptr<SlabBenchScene> s;
   if (s) return *s;
@@ -53,26 +81,9 @@ inline const SlabBenchScene& slabBenchScene() {
   s->surface = slabSurface(150);
   const de::scene_file::SceneDescription slab = de::scene_file::readSceneFile(de::scene_file::findSceneFile("slab"));
   s->options = de::enrichment::optionsFor(slab);
-  de::enrichment::ContactEnricher describer(s->surface, s->options);
-  const Eigen::Matrix3Xd& rest = s->surface.vertices;
-  s->set.metadata.provenance = de::examples::Provenance{slab, {}};
-  for (int i = 0; i < 10; ++i) {
-    de::enrichment::Contact c;
-    c.point = Eigen::Vector3d(-0.02 + 0.004 * i, 0.01 * std::sin(i), 0.02);
-    const Eigen::Vector3d drag(0.0005 * (i % 3), 0.0005 * (i % 2), 0.0);
-    const de::enrichment::ContactDescription d = describer.describe(dented(rest, c.point, 0.002 + 0.0002 * i, drag), c);
-    de::examples::Example e;
-    e.contact = d.p;
-    e.frame = d.B;
-    e.rho = d.rho;
-    e.mu = d.mu;
-    e.stampRadius = s->options.stampRadius;
-    e.stamp.create(32, 32, CV_32FC3);
-    cv::randn(e.stamp, cv::Scalar::all(0.0), cv::Scalar::all(1e-4));
-    s->set.examples.push_back(e);
-  }
+  s->set = slabBenchSet(s->surface, s->options, slab, 10, 1);
   s->contact = Eigen::Vector3d(0.003, -0.002, 0.02);
-  s->current = dented(rest, s->contact, 0.0025, Eigen::Vector3d(0.0004, 0.0, 0.0));
+  s->current = dented(s->surface.vertices, s->contact, 0.0025, Eigen::Vector3d(0.0004, 0.0, 0.0));
   return *s;
 }
 
