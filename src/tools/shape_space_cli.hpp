@@ -24,7 +24,7 @@ struct ShapeSpaceCli {
     app.add_flag("--symmetric", symmetric, symmetricHelp);
     app.add_option("--energy", energyName,
                    "hyperelastic (GOAST's, bending scaled to the mesh size; default) or classic ([Brandt16 §7]; "
-                   "no barrier against collapsing triangles, see README)")
+                   "no barrier against collapsing triangles, docs/design.md §10)")
         ->check(CLI::IsMember({"classic", "hyperelastic"}));
     app.add_flag("--json", json, "print the JSON summary on stdout");
   }

@@ -33,13 +33,16 @@ struct ContactEnricherOptions {
   /// (eq. 14 compares directions only). false = the paper's pure correlation. Measured on held-out slab
   /// contacts: enriched / coarse RMS 0.49 with, 0.53 without (R = 2 cm, band 0.2); 0.34 vs 0.45 (band 0).
   bool magnitudeAware = true;
-  /// Bounds of the blend (issue 13: unbounded, a contact far outside the examples got weights of +-5 and
-  /// an unlimited magnitude scale): |mu| / |mu[i]| is clamped to maxMagnitudeRatio and every w~_i to
-  /// [-maxWeight, maxWeight]. Both are continuous, so a stream stays continuous.
+  /// Bounds of the blend, so a contact far outside the examples gets neither large weights (the paper
+  /// blend's unclamped weights reach +-5 there) nor an unlimited magnitude. Blend paper: |mu| / |mu[i]| is
+  /// clamped to maxMagnitudeRatio and every w~_i to [-maxWeight, maxWeight]. Blend regression (its weights
+  /// fade away from the examples' sites by themselves): no clamp; |mu| counts at most maxMagnitudeRatio
+  /// times the largest |mu[i]|. All bounds are continuous, so a stream stays continuous.
   double maxMagnitudeRatio = 2.0;
   double maxWeight = 2.0;
-  /// Detail fades in with the blend's confidence (max eq. 15 weight): 0 below minConfidence, full from
-  /// 2 minConfidence on, smoothstep between (a ramp, not a step). 0 = never gated.
+  /// Detail fades in with the blend's confidence (paper: max eq. 15 weight; regression: the variance the
+  /// examples explain): 0 below minConfidence, full from 2 minConfidence on, smoothstep between (a ramp,
+  /// not a step). 0 = never gated.
   double minConfidence = 0.0;
 };
 

@@ -35,7 +35,7 @@ struct FixedRegion {
 
 /// How the tool loads the tissue. Penalty springs are smooth in the tool position, so fine - coarse varies
 /// smoothly between contacts; Dirichlet grabs whole vertices under the tip and makes it jump with the mesh
-/// (held-out slab ratio 1.04 against 0.53 with the penalty tool, README "Accuracy").
+/// (held-out slab ratio 1.04 against 0.53 with the penalty tool, docs/design.md §7).
 enum class ToolModel { Penalty, Dirichlet };
 
 struct Tool {
