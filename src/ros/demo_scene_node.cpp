@@ -52,6 +52,21 @@ de::ToolContact toolContact(const std_msgs::Header& header, const Eigen::Vector3
   return contact;
 }
 
+// The coarse quasi-static path of one interaction and the tool's displacement at each of its states.
+Tap solveTap(const de::acquisition::SceneAcquisition& scene, const de::acquisition::PlanEntry& entry, int indentSteps,
+             int dragSteps) {
+  Tap tap{scene.toolPath(entry), {}, {}};
+  std::string message;
+  tap.path = scene.coarsePath(entry, indentSteps, dragSteps, &message);
+  if (!message.empty()) ROS_WARN("demo scene: coarse solver: %s", message.c_str());
+  const de::acquisition::ToolPath& p = tap.toolPath;
+  const int drag = static_cast<int>(tap.path.size()) - 1 - indentSteps;
+  const Eigen::Vector3d dragDirection = drag > 0 ? Eigen::Vector3d(p.drag.normalized()) : Eigen::Vector3d::UnitX();
+  for (int step = 0; step < static_cast<int>(tap.path.size()); ++step)
+    tap.tool.push_back(de::acquisition::toolDisplacement(step, indentSteps, drag, p.inward, p.depth, dragDirection, p.drag.norm()));
+  return tap;
+}
+
 // The scene's frame as an identity child of `parent` in tf: without any tf data for it rviz reports its
 // fixed frame missing (Global Status: Warn), although every message is in that frame.
 geometry_msgs::TransformStamped frameTransform(const std::string& parent, const std_msgs::Header& header) {
@@ -96,19 +111,7 @@ int main(int argc, char** argv) {
     scene = std::make_unique<de::acquisition::SceneAcquisition>(description);
     const auto entries = contactsFile.empty() ? de::acquisition::randomContacts(*scene, 4, static_cast<unsigned>(seed))
                                               : de::acquisition::readPlan(contactsFile);
-    for (const de::acquisition::PlanEntry& entry : entries) {
-      Tap tap{scene->toolPath(entry), {}, {}};
-      std::string message;
-      tap.path = scene->coarsePath(entry, indentSteps, dragSteps, &message);
-      if (!message.empty()) ROS_WARN("demo scene: coarse solver: %s", message.c_str());
-      const de::acquisition::ToolPath& p = tap.toolPath;
-      const int drag = static_cast<int>(tap.path.size()) - 1 - indentSteps;
-      for (int step = 0; step < static_cast<int>(tap.path.size()); ++step)
-        tap.tool.push_back(de::acquisition::toolDisplacement(step, indentSteps, drag, p.inward, p.depth,
-                                                        drag > 0 ? Eigen::Vector3d(p.drag.normalized()) : Eigen::Vector3d::UnitX(),
-                                                        p.drag.norm()));
-      taps.push_back(std::move(tap));
-    }
+    for (const de::acquisition::PlanEntry& entry : entries) taps.push_back(solveTap(*scene, entry, indentSteps, dragSteps));
   } catch (const std::exception& e) {
     ROS_FATAL("demo scene: %s", e.what());
     return 1;
