@@ -66,7 +66,7 @@ examples::ExampleSet SceneAcquisition::acquireSet(const std::vector<PlanEntry>& 
   if (fs::exists(fs::path(directory) / examples::kManifestFile)) {
     try {
       previous = examples::loadExampleSet(directory);
-      // Sets written before volume stamps existed read back with the default layers in their provenance.
+      // A manifest without stamp_layers reads back with the default layers in its provenance.
       const bool sameStamps = !previous.examples.empty() && previous.examples.front().stampLayers == scene_.stamp.layers;
       const bool same = sameStamps && previous.metadata.provenance &&
                         scene_file::sceneYaml(previous.metadata.provenance->scene) == scene_file::sceneYaml(scene_) &&

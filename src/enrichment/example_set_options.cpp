@@ -11,7 +11,7 @@ namespace deformation_enrichment::enrichment {
 
 namespace {
 
-// Sets written before provenance existed name their descriptor options in the metadata map.
+// Sets without provenance name their descriptor options in the metadata map.
 void applyLegacyMetadata(const std::map<std::string, double>& metadata, ContactEnricherOptions& o) {
   const auto positive = [&](const char* key, double& value) {
     const auto it = metadata.find(key);

@@ -229,7 +229,7 @@ void readHeader(const ManifestReader& r, const json& manifest, ExampleSetMetadat
   const json& material = r.field(manifest, "material", "manifest");
   if (!material.is_object()) r.fail("field manifest.material is not an object");
   for (const auto& item : material.items()) metadata.material[item.key()] = r.number(material, item.key(), "manifest.material");
-  // Sets written before provenance existed have none.
+  // A manifest may carry no provenance.
   const auto provenance = manifest.find("provenance");
   if (provenance == manifest.end() || provenance->is_null()) return;
   Provenance p;
@@ -291,7 +291,7 @@ Example readExample(const ManifestReader& r, const json& e, std::size_t i, const
     r.fail("field " + p + " stamp size differs from example 0 (a set shares one stamp grid)");
   if (first && std::abs(ex.stampRadius - first->stampRadius) > 1e-9 * std::abs(first->stampRadius))
     r.fail("field " + p + ".stamp_radius differs from example 0 (a set shares one stamp grid)");
-  // Sets written before volume stamps existed hold surface stamps.
+  // A manifest without stamp_layers holds surface stamps.
   if (e.is_object() && e.contains("stamp_layers")) ex.stampLayers = r.integer(e, "stamp_layers", p);
   if (ex.stampLayers < 1 || (ex.stampLayers > 1 && stampRows != ex.stampLayers * stampCols))
     r.fail("field " + p + ".stamp_layers " + std::to_string(ex.stampLayers) + " does not divide the stamp's " +
@@ -312,7 +312,7 @@ Example readExample(const ManifestReader& r, const json& e, std::size_t i, const
   const std::vector<double> drag = r.numbers(r.field(pattern, "drag", p + ".pattern"), p + ".pattern.drag", 3);
   ex.pattern.drag = Eigen::Vector3d(drag[0], drag[1], drag[2]);
   ex.sceneId = r.string(e, "scene_id", p);
-  // Sets written before shards existed have no plan line.
+  // A manifest without plan lines leaves them unknown.
   if (e.is_object() && e.contains("plan_line")) {
     ex.planLine = r.integer(e, "plan_line", p);
     if (ex.planLine < -1) r.fail("field " + p + ".plan_line is below -1");

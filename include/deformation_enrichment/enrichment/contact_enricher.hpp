@@ -78,7 +78,7 @@ struct ContactOutcome {
   int toolId = 0;
   ContactDescription description;
   Eigen::VectorXd weights;  ///< w~ per example (eq. 16)
-  double confidence = 0.0;  ///< max eq. (15) weight
+  double confidence = 0.0;  ///< the blend's confidence (paper: max eq. (15) weight; regression: explained variance)
   double muNorm = 0.0;      ///< |mu|: how strongly the tissue is deformed at the contact
   double detailScale = 1.0; ///< confidence ramp times the fade of a released site (times the stamp gain)
 };

@@ -13,8 +13,8 @@ namespace deformation_enrichment::enrichment {
 /// sampling, stamp radius).
 ContactEnricherOptions optionsFor(const scene_file::SceneDescription& scene, ContactEnricherOptions defaults = {});
 
-/// `defaults` with everything the set records applied: its provenance's scene (or, for sets written before
-/// provenance existed, the named metadata entries they have), the orders rho and mu of its examples and
+/// `defaults` with everything the set records applied: its provenance's scene (or, for sets without provenance,
+/// the named metadata entries they have), the orders rho and mu of its examples and
 /// their stamp radius. Run-time-only knobs of `defaults` (gain, rim band, magnitude scaling) stay. Throws
 /// InvalidInputError for an empty set, examples of mixed layouts or radii, or a recorded value that is not
 /// finite and positive.

@@ -47,7 +47,7 @@ struct Provenance {
 /// Set-wide metadata written to the manifest.
 struct ExampleSetMetadata {
   std::string scene;                    ///< scene name, e.g. "slab"
-  /// Named parameters of sets written before provenance existed (SI units); read for them, not written.
+  /// Named parameters of sets without provenance (SI units); read for them, not written.
   std::map<std::string, double> material;
   std::string description;
   std::optional<Provenance> provenance;  ///< every set acquired by this version has one

@@ -107,7 +107,7 @@ TEST(ExampleSetOptions, SetsWithoutProvenanceUseTheirMetadataAndBadValuesAreRefu
   const mesh::TriangleMesh rest = slabSurface();
   enrichment::Contact contact;
   contact.point = Eigen::Vector3d(0.0, 0.0, 0.02);
-  // A set written before provenance existed: named entries, the cut-off not among them.
+  // A set without provenance: named entries, the cut-off not among them.
   examples::ExampleSet set = acquiredSet(descriptors::Quadrature::Average, rest, contact);
   set.metadata.provenance.reset();
   set.metadata.material = {{"window_scale_m", 0.007}, {"site_sample_spacing_m", 0.0025}, {"average_quadrature", 1.0}};
