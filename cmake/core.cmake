@@ -242,6 +242,14 @@ if(DE_BUILD_TESTS AND TARGET de_make_examples AND TARGET de_merge_examples)
   set_tests_properties(shards_in_parallel PROPERTIES TIMEOUT 600)
 endif()
 
+# An independent FEM check (docs/accuracy.md): the default slab indented 1 mm by the Dirichlet tool, solved by
+# CalculiX's ccx (compressible neo-Hookean, run as a separate GPL program) and by our SNH solver, within 1 %. A
+# missing ccx fails it (scripts/install-deps installs calculix-ccx).
+if(DE_BUILD_TESTS AND TARGET de_simulate)
+  add_test(NAME calculix_check COMMAND de_simulate --check-calculix --depth 0.001)
+  set_tests_properties(calculix_check PROPERTIES TIMEOUT 120)
+endif()
+
 # The liver scene (docs/liver.md): CGAL's segmented liver CT meshed by de_mesh_image into the build tree, with
 # its scene file beside the meshes. Deterministic; nothing generated is committed.
 set(DE_LIVER_IMAGE_ARCHIVE /usr/share/doc/libcgal-demo/data.tar.gz)

@@ -1,14 +1,19 @@
 // de_simulate: runs a procedural (or TetGen) scene under a tool that indents and optionally drags
 // laterally, solving each step to quasi-static equilibrium with the Stable Neo-Hookean FEM. Writes the
 // surface of every step as OBJ and a JSON log of Newton iterations, residuals and times; progress on stderr.
+// --check-calculix instead solves the indentation with CalculiX's ccx as well (an independent FEM with a
+// compressible neo-Hookean solid, run as a separate program in a temporary folder) and prints the
+// difference as JSON, writing no files.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <nlohmann/json.hpp>
 
+#include "deformation_enrichment/elasticity/calculix_comparison.hpp"
 #include "deformation_enrichment/elasticity/quasi_static_solver.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/tet_surface.hpp"
@@ -51,6 +56,68 @@ scenes::Scene sceneFromTetGen(const std::string& base, double tolerance) {
 
 json toJson(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
 
+constexpr int kCheckIncrements = 4;       // ccx increments and our load steps of --check-calculix
+constexpr double kCheckTolerance = 0.01;  // largest relative difference --check-calculix accepts
+
+scenes::Scene proceduralScene(const std::string& name, const std::vector<int>& cells, std::optional<double> skinThickness,
+                              std::optional<int> skinLayers) {
+  scenes::Layering layering;
+  if (name == "meniscus") layering = scenes::MeniscusOptions().layering;
+  if (!cells.empty()) layering.cells = Eigen::Vector3i(cells[0], cells[1], cells[2]);
+  if (skinThickness) layering.skinThickness = *skinThickness;
+  if (skinLayers) layering.skinLayers = *skinLayers;
+  if (name == "slab") {
+    scenes::SlabOptions options;
+    options.layering = layering;
+    return scenes::makeSlab(options);
+  }
+  if (name == "pillow") {
+    scenes::PillowOptions options;
+    options.layering = layering;
+    return scenes::makePillow(options);
+  }
+  scenes::MeniscusOptions options;
+  options.layering = layering;
+  return scenes::makeMeniscus(options);
+}
+
+/// The scene indented by the Dirichlet tool of the acquisition (the tool vertices moved by `displacement`,
+/// the support held), bulk and skin materials by material id.
+elasticity::CalculixModel calculixModel(const scenes::Scene& scene, const std::vector<int>& tool,
+                                        const Eigen::Vector3d& displacement,
+                                        std::vector<elasticity::IsotropicMaterial> materials, int increments) {
+  elasticity::CalculixModel model;
+  model.rest = scene.mesh;
+  model.materials = std::move(materials);
+  model.materialId = scene.materialId;
+  model.constraints = acquisition::toolConstraints(scene, tool, displacement);
+  model.increments = increments;
+  return model;
+}
+
+/// Prints the comparison as JSON on stdout; 0 if the relative difference is at most `limit`, else 1.
+int checkAgainstCalculix(const elasticity::CalculixModel& model, const std::string& variantName, double depth,
+                         std::size_t toolVertices, double limit) {
+  elasticity::CalculixComparisonOptions options;
+  options.variant = variantName == "paper" ? elasticity::SnhVariant::Paper : elasticity::SnhVariant::Production;
+  const elasticity::CalculixComparison c = elasticity::compareWithCalculix(model, options);
+  const bool passed = c.relativeDifference <= limit;
+  const json report = {
+      {"check", "calculix"}, {"variant", variantName}, {"depth", depth}, {"nodes", model.rest.numVertices()},
+      {"tets", model.rest.numTets()}, {"tool_vertices", toolVertices}, {"increments", model.increments},
+      {"relative_difference", c.relativeDifference}, {"tolerance", limit}, {"passed", passed},
+      {"rms_displacement", c.rmsDisplacement}, {"max_difference", c.maxDifference},
+      {"max_strain", c.maxGreenStrain}, {"max_displacement_gradient", c.maxDisplacementGradient},
+      {"energy_form_remainder", c.energyFormRemainder},
+      {"energy_form_explained", 1.0 - c.energyFormRemainder / c.relativeDifference},
+      {"calculix_residual_ratio", c.calculixResidualRatio}, {"ccx_seconds", c.calculixSeconds},
+      {"ccx_threads", options.calculix.threads}, {"our_seconds", c.ourSeconds}, {"our_iterations", c.ourIterations}};
+  std::cout << report.dump(1) << '\n';
+  if (passed) return 0;
+  std::cerr << "de_simulate: relative difference to CalculiX " << c.relativeDifference << " exceeds the tolerance " << limit << '\n';
+  return 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -80,11 +147,16 @@ int main(int argc, char** argv) {
   app.add_option("--indent-direction", indentDirection, "indentation direction (3 numbers)")->expected(3);
   app.add_option("--direction", dragDirection, "drag direction (3 numbers)")->expected(3);
   app.add_option("--drag-distance", dragDistance, "drag distance (m)");
-  app.add_option("--steps", steps, "steps of the motion (indent mode: indentation steps; drag mode: drag steps)");
+  auto* stepsOption = app.add_option("--steps", steps, "steps of the motion (indent mode: indentation steps; drag mode: drag steps)");
   app.add_option("--indent-steps", indentSteps, "drag mode: indentation steps before the drag");
   app.add_option("--solver", solverName, "auto | cholmod | ldlt")->check(CLI::IsMember({"auto", "cholmod", "ldlt"}));
   app.add_option("--max-iterations", maxIterations, "Newton iterations per step");
-  app.add_option("--tolerance", tolerance, "relative force tolerance");
+  auto* toleranceOption = app.add_option("--tolerance", tolerance, "relative force tolerance (with --check-calculix: the "
+                                        "largest relative difference accepted, default 0.01)");
+  bool checkCalculix = false;
+  app.add_flag("--check-calculix", checkCalculix,
+               "solve the indentation (Dirichlet tool) with CalculiX's ccx too and print the difference as JSON; "
+               "exit 1 if it exceeds --tolerance");
   app.add_option("--max-seconds", maxSeconds, "time limit per step (s)");
   double exactBelow = elasticity::SolverSettings().exactHessianBelow;
   double reuseContraction = elasticity::SolverSettings().reuseContraction;
@@ -94,28 +166,20 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   try {
-    scenes::Scene scene;
-    if (!tetgenBase.empty()) {
-      scene = sceneFromTetGen(tetgenBase, fixTolerance);
-    } else {
-      scenes::Layering layering;
-      if (sceneName == "meniscus") layering = scenes::MeniscusOptions().layering;
-      if (!cells.empty()) layering.cells = Eigen::Vector3i(cells[0], cells[1], cells[2]);
-      if (skinThicknessOption->count()) layering.skinThickness = skinThickness;
-      if (skinLayersOption->count()) layering.skinLayers = skinLayers;
-      if (sceneName == "slab") {
-        scenes::SlabOptions options;
-        options.layering = layering;
-        scene = scenes::makeSlab(options);
-      } else if (sceneName == "pillow") {
-        scenes::PillowOptions options;
-        options.layering = layering;
-        scene = scenes::makePillow(options);
-      } else {
-        scenes::MeniscusOptions options;
-        options.layering = layering;
-        scene = scenes::makeMeniscus(options);
-      }
+    const std::optional<double> thickness = skinThicknessOption->count() ? std::optional<double>(skinThickness) : std::nullopt;
+    const std::optional<int> layers = skinLayersOption->count() ? std::optional<int>(skinLayers) : std::nullopt;
+    const scenes::Scene scene = tetgenBase.empty() ? proceduralScene(sceneName, cells, thickness, layers)
+                                                   : sceneFromTetGen(tetgenBase, fixTolerance);
+    const Eigen::Vector3d indent(indentDirection[0], indentDirection[1], indentDirection[2]);
+    const std::vector<int> tool = acquisition::toolFootprint(scene, Eigen::Vector2d(point[0], point[1]), toolRadius);
+    if (checkCalculix) {
+      if (mode != "indent") throw InvalidInputError("--check-calculix compares an indentation; --mode drag is not supported");
+      const elasticity::CalculixModel model = calculixModel(scene, tool,
+                                                            acquisition::toolDisplacement(1, 1, 0, indent, depth, Eigen::Vector3d::UnitX(), 0.0),
+                                                            {{bulkYoung, bulkPoisson}, {skinYoung, skinPoisson}},
+                                                            stepsOption->count() ? steps : kCheckIncrements);
+      const double limit = toleranceOption->count() ? tolerance : kCheckTolerance;
+      return checkAgainstCalculix(model, variantName, depth, tool.size(), limit);
     }
     const elasticity::SnhVariant variant = variantName == "paper" ? elasticity::SnhVariant::Paper : elasticity::SnhVariant::Production;
     const auto bulk = elasticity::lameFromYoungPoisson(bulkYoung, bulkPoisson);
@@ -134,14 +198,12 @@ int main(int argc, char** argv) {
                             : solverName == "ldlt"  ? elasticity::LinearSolverKind::SimplicialLDLT
                                                     : elasticity::LinearSolverKind::Auto;
     elasticity::QuasiStaticSolver solver(fem, settings);
-    const std::vector<int> tool = acquisition::toolFootprint(scene, Eigen::Vector2d(point[0], point[1]), toolRadius);
     const mesh::TetSurface surface = mesh::extractSurface(scene.mesh);
     std::filesystem::create_directories(outDir);
 
     const bool drag = mode == "drag";
     const int firstPhase = drag ? indentSteps : steps;
     const int dragSteps = drag ? steps : 0;
-    const Eigen::Vector3d indent(indentDirection[0], indentDirection[1], indentDirection[2]);
     const Eigen::Vector3d along(dragDirection[0], dragDirection[1], dragDirection[2]);
     std::cerr << "scene " << scene.name << ": " << scene.mesh.numVertices() << " vertices, " << scene.mesh.numTets()
               << " tets, " << tool.size() << " tool vertices, " << scene.fixedVertices.size() << " support vertices\n";
