@@ -243,3 +243,21 @@ TEST(DeformationDescriptor, BadInput) {
   EXPECT_THROW(deformationDistance(zero, some), InvalidInputError);
   EXPECT_THROW(siteDistance(hermite::MomentList(0, 3), hermite::MomentList(0, 2)), InvalidInputError);
 }
+
+TEST(DeformationDescriptor, TheSameDeformationOnTwoMeshingsGivesTheSameMu) {
+  // mu integrates the rigid-free displacement over the window's volume (eq. 11 with the volume quadrature),
+  // so like rho it describes the shape and its deformation, not the mesh: the cube meshed with 16 and with 24
+  // cells per edge (spacing h / 1.6 and h / 2.4) under the same displacement fields.
+  const mesh::TetMesh coarse = de_test::uniformBox(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1), 16);
+  const mesh::TetMesh fine = de_test::uniformBox(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1), 24);
+  const DescriptorEvaluator onCoarse(coarse, cubeOptions()), onFine(fine, cubeOptions());
+  for (const auto& [name, mode] : syntheticModes()) {
+    const ContactDescriptor a = onCoarse.evaluate(kTop, deform(coarse.vertices, mode));
+    const ContactDescriptor b = onFine.evaluate(kTop, deform(fine.vertices, mode));
+    const double relative = (a.mu.values() - b.mu.values()).norm() / b.mu.values().norm();
+    const double du = deformationDistance(a.mu, b.mu);
+    std::printf("%-13s |mu_16 - mu_24| / |mu_24| = %.3e, d_u = %.3e\n", name.c_str(), relative, du);
+    EXPECT_LT(relative, 0.05) << name;
+    EXPECT_LT(du, 0.05) << name;
+  }
+}
