@@ -71,6 +71,10 @@ find_package(ZLIB REQUIRED)
 target_link_libraries(deformation_enrichment_geometry PRIVATE VTK::CommonCore VTK::CommonDataModel VTK::FiltersCore
   VTK::ImagingGeneral VTK::IOLegacy VTK::IOXML ZLIB::ZLIB)
 target_compile_definitions(deformation_enrichment_geometry PRIVATE CGAL_USE_ZLIB)
+# CGAL's exact predicates and constructions (surface repair) compute with GMP and MPFR.
+find_library(GMP_LIBRARY gmp REQUIRED)
+find_library(MPFR_LIBRARY mpfr REQUIRED)
+target_link_libraries(deformation_enrichment_geometry PRIVATE ${MPFR_LIBRARY} ${GMP_LIBRARY})
 de_add_layer(descriptors deformation_enrichment_geometry)
 de_add_layer(runtime deformation_enrichment_descriptors ${OpenCV_LIBS})
 # urdfdom parses tool tips from robot_description (enrichment/tool_tip.cpp).

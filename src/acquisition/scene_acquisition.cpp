@@ -194,8 +194,13 @@ InteractionResult SceneAcquisition::simulate(const PlanEntry& entry) const {
   r.coarseOnFine = coarseOnFineSurface(coarse);
   r.coarseNodes = coarse;
   r.fineNodes = fine;
-  r.fine.resize(3, impl_->models.surface.numVertices());
-  for (Eigen::Index v = 0; v < r.fine.cols(); ++v) r.fine.col(v) = fine.col(impl_->models.surfaceToFine[static_cast<std::size_t>(v)]);
+  const scenes::SceneModels& m = impl_->models;
+  if (m.surfaceOnFine) {
+    r.fine = mesh::interpolate(*m.surfaceOnFine, m.fine.mesh, fine);  // positions: barycentric weights sum to one
+  } else {
+    r.fine.resize(3, m.surface.numVertices());
+    for (Eigen::Index v = 0; v < r.fine.cols(); ++v) r.fine.col(v) = fine.col(m.surfaceToFine[static_cast<std::size_t>(v)]);
+  }
   return r;
 }
 

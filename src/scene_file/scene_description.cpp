@@ -213,7 +213,6 @@ SceneDescription parseScene(const YAML::Node& root, const std::string& path, con
   readSection(scene, "fine", [&](MapReader& s) { d.fineMaxVolume = s.positive("max_volume", 0.0); });
   if (!d.procedural && d.volume.empty() && d.coarseMaxVolume == 0.0)
     scene.failHere("needs 'volume' or 'coarse: {max_volume: ...}' to make a coarse tet mesh");
-  if (!d.procedural && d.fineMaxVolume == 0.0) scene.failHere("needs 'fine: {max_volume: ...}' for the fine model");
   if (!scene.has("material")) scene.failHere("needs 'material: {young: ..., poisson: ...}'");
   d.material = readMaterial(scene.map("material"));
   if (scene.has("skin")) {

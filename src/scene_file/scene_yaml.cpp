@@ -72,8 +72,10 @@ std::string sceneYaml(const SceneDescription& s) {
       out << YAML::Key << "coarse" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "max_volume" << YAML::Value;
       number(out, s.coarseMaxVolume) << YAML::EndMap;
     }
-    out << YAML::Key << "fine" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "max_volume" << YAML::Value;
-    number(out, s.fineMaxVolume) << YAML::EndMap;
+    if (s.fineMaxVolume > 0.0) {
+      out << YAML::Key << "fine" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "max_volume" << YAML::Value;
+      number(out, s.fineMaxVolume) << YAML::EndMap;
+    }
   }
   material(out, "material", s.material);
   if (s.skin) {

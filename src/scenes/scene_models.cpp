@@ -13,6 +13,7 @@
 #include "deformation_enrichment/mesh/tet_surface.hpp"
 #include "deformation_enrichment/mesh/tetrahedralisation.hpp"
 #include "deformation_enrichment/mesh/volume_mesh_io.hpp"
+#include "deformation_enrichment/scenes/fine_model.hpp"
 
 namespace deformation_enrichment::scenes {
 namespace {
@@ -182,47 +183,26 @@ std::vector<int> fineNodesNear(const mesh::TetMesh& fine, const mesh::TetMesh& c
   return nodes;
 }
 
-SceneModels fileModels(const SceneDescription& d) {
-  const auto start = std::chrono::steady_clock::now();
-  std::ostringstream report;
-  SceneModels m;
-  m.name = d.name;
-  mesh::TriangleMesh surface = mesh::readTriangleMesh(d.surface);
-  surface.vertices *= d.units;
-  const mesh::SurfaceReport inspected = mesh::inspectSurface(surface);
-  report << d.name << ": surface " << mesh::describe(inspected);
-  if (!inspected.closedManifold())
-    throw InvalidInputError(d.surface + ": acquisition needs a closed, manifold, consistently oriented display surface (the fine "
-                            "model fills it); this one has " + mesh::describe(inspected));
-  // Coarse: the user's volume, or the simplified surface tetrahedralised.
-  std::vector<int> fileToNode;
+// The coarse model of a file scene: the user's volume, or the simplified display surface tetrahedralised.
+mesh::TetMesh coarseModel(const SceneDescription& d, const DisplaySurface& display, std::vector<int>& fileToNode, std::ostringstream& report) {
   if (!d.volume.empty()) {
     mesh::VolumeMeshFile file = mesh::readVolumeMesh(d.volume);
     report << "; coarse volume " << mesh::describe(file);
     file.mesh.vertices *= d.units;
-    m.coarse.mesh = compactVolume(file.mesh, fileToNode);
-  } else {
-    mesh::CoarseVolumeOptions options;
-    options.tetgen.maxVolume = d.coarseMaxVolume;
-    const mesh::CoarseVolume coarse = mesh::coarseVolume(surface, options);
-    m.coarse.mesh = coarse.volume.mesh;
-    report << "; coarse volume tetrahedralised from " << coarse.boundaryVertices << " surface vertices";
+    return compactVolume(file.mesh, fileToNode);
   }
-  mesh::TetrahedraliseOptions fineOptions;
-  fineOptions.maxVolume = d.fineMaxVolume;
-  const mesh::Tetrahedralisation fine = mesh::tetrahedralise(surface, fineOptions);
-  m.fine.mesh = fine.mesh;
-  m.surface = surface;
-  m.surfaceToFine.resize(static_cast<std::size_t>(surface.numVertices()));
-  for (std::size_t v = 0; v < m.surfaceToFine.size(); ++v) m.surfaceToFine[v] = static_cast<int>(v);  // tetgen -Y keeps them first
-  // Materials: the skin layer under the display surface, in both models.
-  const mesh::SurfaceProjector projector(surface);
-  for (Scene* s : {&m.coarse, &m.fine}) {
-    s->name = d.name;
-    s->materialId = d.skin ? skinMaterial(s->mesh, projector, d.skin->thickness)
-                           : Eigen::VectorXi::Constant(s->mesh.numTets(), kBulkMaterial);
-  }
-  // The fixed region, in both models.
+  if (!display.fillable)
+    throw InvalidInputError(d.surface + ": the scene names no 'volume' and the display surface cannot be tetrahedralised for one (" +
+                            display.report + ")");
+  mesh::CoarseVolumeOptions options;
+  options.tetgen.maxVolume = d.coarseMaxVolume;
+  const mesh::CoarseVolume coarse = mesh::coarseVolume(display.surface, options);
+  report << "; coarse volume tetrahedralised from " << coarse.boundaryVertices << " surface vertices";
+  return coarse.volume.mesh;
+}
+
+// The scene's fixed region in both models; `fileToNode` maps the volume file's node ids to the coarse model's.
+void holdFixedRegion(const SceneDescription& d, const std::vector<int>& fileToNode, SceneModels& m) {
   const scene_file::FixedRegion& region = *d.fixed;
   if (region.kind == FixedRegion::Kind::Vertices) {
     for (int id : region.vertices) {
@@ -238,13 +218,37 @@ SceneModels fileModels(const SceneDescription& d) {
     m.coarse.fixedVertices = nodesInRegion(region, m.coarse.mesh);
     m.fine.fixedVertices = nodesInRegion(region, m.fine.mesh);
   }
+}
+
+SceneModels fileModels(const SceneDescription& d) {
+  const auto start = std::chrono::steady_clock::now();
+  std::ostringstream report;
+  SceneModels m;
+  m.name = d.name;
+  const DisplaySurface display = readDisplaySurface(d);
+  report << d.name << ": " << display.report;
+  std::vector<int> fileToNode;
+  m.coarse.mesh = coarseModel(d, display, fileToNode, report);
+  FineModel fine = buildFineModel(d, display, m.coarse.mesh);
+  m.fine.mesh = std::move(fine.mesh);
+  m.surfaceToFine = std::move(fine.surfaceToFine);
+  m.surfaceOnFine = std::move(fine.surfaceOnFine);
+  m.surface = display.surface;
+  // Materials: the skin layer under the display surface, in both models.
+  const mesh::SurfaceProjector projector(m.surface);
+  for (Scene* s : {&m.coarse, &m.fine}) {
+    s->name = d.name;
+    s->materialId = d.skin ? skinMaterial(s->mesh, projector, d.skin->thickness)
+                           : Eigen::VectorXi::Constant(s->mesh.numTets(), kBulkMaterial);
+  }
+  holdFixedRegion(d, fileToNode, m);
   for (Scene* s : {&m.coarse, &m.fine}) {
     checkHolds(s->fixedVertices, s->mesh, d.path + ": " + (s == &m.coarse ? "coarse" : "fine") + " model");
     s->topVertices = touchable(mesh::extractSurface(s->mesh), s->fixedVertices);
   }
   m.fineEdge = longestEdge(m.surface);
   report << "; coarse " << m.coarse.mesh.numVertices() << " nodes, " << m.coarse.mesh.numTets() << " tets; fine "
-         << m.fine.mesh.numVertices() << " nodes, " << m.fine.mesh.numTets() << " tets (tetgen " << fine.command << "); "
+         << m.fine.mesh.numVertices() << " nodes, " << m.fine.mesh.numTets() << " tets (" << fine.report << "); "
          << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s";
   m.report = report.str();
   return m;

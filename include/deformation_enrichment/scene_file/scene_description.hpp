@@ -80,7 +80,7 @@ struct SceneDescription {
   std::string surface;  ///< display surface file (absolute); empty for a procedural scene
   std::string volume;   ///< coarse tet mesh file (absolute); empty: tetrahedralise the closed surface
   double coarseMaxVolume = 0.0;  ///< m^3, coarse tets when `volume` is empty
-  double fineMaxVolume = 0.0;    ///< m^3, the fine model conforming to the surface
+  double fineMaxVolume = 0.0;    ///< m^3, the fine model's largest tet; 0: scenes::defaultFineMaxVolume of the surface
   std::optional<Procedural> procedural;
   Material material;
   std::optional<Skin> skin;

@@ -2,11 +2,13 @@
 // The coarse and fine simulation models of one scene file, and the display surface on the fine model
 // (docs/design.md §6). Procedural scenes build both as layered grids of one shape; a scene with mesh files
 // uses the user's coarse tet mesh (or tetrahedralises a simplified surface) and a fine tet mesh conforming
-// to the display surface (tetgen -pY keeps its vertices), so that fine - coarse lives on the display surface.
+// to the (repaired) display surface (tetgen -pY keeps its vertices), so that fine - coarse lives on the
+// display surface; a surface that cannot be repaired is embedded in the refined coarse volume instead.
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "deformation_enrichment/mesh/barycentric_embedding.hpp"
 #include "deformation_enrichment/mesh/tet_mesh.hpp"
 #include "deformation_enrichment/mesh/triangle_mesh.hpp"
 #include "deformation_enrichment/scene_file/scene_description.hpp"
@@ -18,8 +20,11 @@ struct SceneModels {
   std::string name;
   Scene coarse;  ///< material ids kBulkMaterial / kSkinMaterial, fixed and touchable (top) vertices
   Scene fine;
-  mesh::TriangleMesh surface;     ///< the display surface (m): the fine model's boundary
-  std::vector<int> surfaceToFine; ///< display vertex -> fine volume vertex
+  mesh::TriangleMesh surface;     ///< the display surface (m), repaired when its file needed it
+  std::vector<int> surfaceToFine; ///< display vertex -> its fine node (or the fine boundary node nearest it)
+  /// The display surface in the fine model when the fine model does not keep its vertices (a surface that
+  /// could not be made fillable: the refined coarse volume, scenes/fine_model.hpp); none: surfaceToFine is exact.
+  std::optional<mesh::BarycentricEmbedding> surfaceOnFine;
   double fineEdge = 0.0;          ///< longest display-surface edge (m)
   std::string report;             ///< what was read or made (counts, reoriented / skipped cells, seconds)
 };

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "deformation_enrichment/acquisition/held_out_evaluation.hpp"
+#include "deformation_enrichment/acquisition/plan_generation.hpp"
 #include "deformation_enrichment/examples/example_set_io.hpp"
 #include "deformation_enrichment/enrichment/stamp.hpp"
 #include "deformation_enrichment/error.hpp"
@@ -215,4 +216,23 @@ TEST(SceneAcquisition, ShardsMergeIntoTheSingleRunsSet) {
     EXPECT_FALSE(std::filesystem::exists(base + "_merged"));
   }
   for (const char* d : {"_one", "_s1", "_s2", "_merged", "_other"}) std::filesystem::remove_all(base + d);
+}
+
+TEST(SceneAcquisition, ExamplesAreMadeOnARepairedSelfIntersectingSurface) {
+  // test/data/dirty_surface: two overlapping lobes in one OBJ; tetgen alone refuses it.
+  scene_file::SceneDescription d = scene_file::readSceneFile(std::string(DE_SOURCE_DIR) + "/test/data/dirty_surface/two_lobes.yaml");
+  d.solve.indentSteps = 1;
+  d.solve.dragSteps = 1;
+  acquisition::SceneAcquisition acq(d);
+  EXPECT_NE(acq.models().report.find("repaired: "), std::string::npos) << acq.models().report;
+  const std::vector<acquisition::PlanEntry> plan = acquisition::autoPlan(acq, 2);
+  const std::string dir = "/tmp/de_acq_" + std::to_string(::getpid()) + "_lobes";
+  std::filesystem::remove_all(dir);
+  const examples::ExampleSet set = acq.acquireSet(plan, dir);
+  ASSERT_EQ(set.examples.size(), 2u);
+  for (const examples::Example& e : set.examples) {
+    EXPECT_TRUE(cv::checkRange(e.stamp));
+    EXPECT_GT(cv::norm(e.stamp, cv::NORM_INF), 1e-6);  // the fine model adds detail the coarse one lacks
+  }
+  std::filesystem::remove_all(dir);
 }

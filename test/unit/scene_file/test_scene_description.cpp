@@ -128,7 +128,6 @@ TEST(SceneDescription, BadKeysTypesRangesAndFilesAreNamed) {
       {"fixed: {box: [0, 0, 0, 1, 1, 0.1]}", "fixed: {}", "needs exactly one of 'vertices', 'box', 'below'"},
       {"fixed: {box: [0, 0, 0, 1, 1, 0.1]}\n", "", "needs 'fixed'"},
       {"tool: {radius: 0.004,", "tool: {model: magnet, radius: 0.004,", "'tool.model' must be penalty or dirichlet"},
-      {"fine: {max_volume: 1.0e-7}\n", "", "needs 'fine: {max_volume: ...}'"},
       {"resolution: 24", "resolution: 24, {axis: y}: 1", "has a key that is not a plain name"},  // found by fuzz_scene
   };
   for (const Case& c : invalid) {
