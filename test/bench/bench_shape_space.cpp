@@ -1,5 +1,5 @@
 // Shape-space benchmarks ([Brandt16 Table 1 / §7]), each next to its baselines in one process:
-//  - geodesic finger0 -> finger1 (2046 vertices, $DE_FINGER_DIR or ../shared/data/finger; skipped with a
+//  - geodesic finger0 -> finger1 (2046 vertices, $DE_FINGER_DIR or test/data/finger; skipped with a
 //    message when absent) with DE_BENCH_GEODESIC_SHAPES
 //    shapes (default 8), minimising eq. 4: reduced with the ghost mesh (1250 vertices) vs reduced exact vs
 //    full space (Newton); counters: length and path energy (on the full mesh), iterations, evaluations.
@@ -47,10 +47,10 @@ int envInt(const char* name, int fallback) {
   return v ? std::atoi(v) : fallback;
 }
 
-// [finger]: $DE_FINGER_DIR, else <source dir>/../shared/data/finger (the source dir from this file's path).
+// [finger]: $DE_FINGER_DIR, else the shipped test/data/finger (the source dir from this file's path).
 std::string fingerDirectory() {
   if (const char* dir = std::getenv("DE_FINGER_DIR")) return dir;
-  return (std::filesystem::path(__FILE__).parent_path().parent_path().parent_path().parent_path() / "shared" / "data" / "finger").string();
+  return (std::filesystem::path(__FILE__).parent_path().parent_path().parent_path() / "test" / "data" / "finger").string();
 }
 
 enum class Mode { ReducedGhost, ReducedExact, Full, FlowReduced };

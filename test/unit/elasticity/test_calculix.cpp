@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "../expect_error.hpp"
+#include "../missing_input.hpp"
 #include "deformation_enrichment/elasticity/calculix_comparison.hpp"
 #include "deformation_enrichment/elasticity/calculix_dat.hpp"
 #include "deformation_enrichment/elasticity/calculix_deck.hpp"
@@ -35,19 +36,9 @@ bool onPath(const std::string& program) {
   return false;
 }
 
-bool underCi() {
-  const char* ci = std::getenv("CI");
-  return ci && std::string(ci) == "true";
-}
-
 // Real ccx runs: a missing ccx fails the test under CI=true and skips it elsewhere.
-#define REQUIRE_CCX()                                                                                       \
-  do {                                                                                                      \
-    if (!onPath("ccx")) {                                                                                   \
-      if (underCi()) FAIL() << "ccx not on PATH under CI=true (scripts/install-deps installs calculix-ccx)"; \
-      GTEST_SKIP() << "ccx not installed (Debian package calculix-ccx)";                                    \
-    }                                                                                                       \
-  } while (0)
+#define REQUIRE_CCX() \
+  if (!onPath("ccx")) DE_MISSING_INPUT("ccx is not installed (Debian package calculix-ccx)")
 
 // Two positively oriented tets sharing the face 1-2-3: (0,1,2,3) and (1,2,3,4), one per material;
 // vertex 0 fixed, vertex 4 pushed down by 0.1.

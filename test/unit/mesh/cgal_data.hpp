@@ -9,6 +9,8 @@
 #include <fstream>
 #include <string>
 
+#include "../missing_input.hpp"
+
 namespace deformation_enrichment::test {
 
 class CgalData {
@@ -40,4 +42,4 @@ private:
 
 #define DE_REQUIRE_CGAL_DATA()                                   \
   if (::deformation_enrichment::test::CgalData::dir().empty()) \
-  GTEST_SKIP() << "libcgal-demo's data.tar.gz is not installed (scripts/install-deps installs it)"
+  DE_MISSING_INPUT("libcgal-demo's data.tar.gz is not installed")

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "cgal_data.hpp"
+#include "../missing_input.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/barycentric_embedding.hpp"
 #include "deformation_enrichment/mesh/image_surface.hpp"
@@ -76,7 +77,7 @@ TEST(ImageSurface, CgalLiverGivesADisplaySurfaceAndAnEnclosingCoarseVolume) {
   EXPECT_NEAR(double(display.numVertices()), 5000.0, 500.0);
   const double voxelVolume = double(voxels) * liver.spacing.prod();  // 1.77 litres
   EXPECT_NEAR(enclosedVolume(display), voxelVolume, 0.05 * voxelVolume);
-  if (std::system("command -v tetgen > /dev/null") != 0) GTEST_SKIP() << "Debian's tetgen is not installed";
+  if (std::system("command -v tetgen > /dev/null") != 0) DE_MISSING_INPUT("Debian's tetgen is not installed");
   const mesh::Tetrahedralisation fine = mesh::tetrahedralise(display);  // the display surface conforms
   EXPECT_EQ(fine.mesh.vertices.leftCols(display.numVertices()), display.vertices);
   const mesh::CoarseVolume coarse = mesh::coarseVolume(display);

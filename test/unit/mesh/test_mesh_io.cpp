@@ -10,6 +10,7 @@
 
 #include "cgal_data.hpp"
 
+#include "../missing_input.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "expect_io_error.hpp"
 #include "deformation_enrichment/mesh/grid_tet_mesh.hpp"
@@ -45,7 +46,7 @@ TEST(MeshIo, ObjAndPlyRoundTripKeepTopologyAndFloatPositions) {
 TEST(MeshIo, ReadsAssimpTestModels) {
   // Real files nobody here wrote (Debian assimp-testmodels): quads are split into two triangles each.
   const std::string dir = "/usr/share/assimp/models/";
-  if (!std::ifstream(dir + "PLY/cube.ply").good()) GTEST_SKIP() << "assimp-testmodels not installed";
+  if (!std::ifstream(dir + "PLY/cube.ply").good()) DE_MISSING_INPUT("assimp-testmodels is not installed");
   const mesh::TriangleMesh cube = mesh::readTriangleMesh(dir + "PLY/cube.ply");
   EXPECT_EQ(cube.numTriangles(), 12);
   EXPECT_NO_THROW(mesh::validate(cube, false));

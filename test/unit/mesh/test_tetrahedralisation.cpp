@@ -11,6 +11,7 @@
 #include <string>
 
 #include "cgal_data.hpp"
+#include "../missing_input.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/barycentric_embedding.hpp"
 #include "deformation_enrichment/mesh/edge_collapse.hpp"
@@ -26,7 +27,7 @@ namespace {
 bool haveTetgen() { return std::system("command -v tetgen > /dev/null") == 0; }
 
 #define DE_REQUIRE_TETGEN() \
-  if (!haveTetgen()) GTEST_SKIP() << "Debian's tetgen is not installed (scripts/install-deps installs it)"
+  if (!haveTetgen()) DE_MISSING_INPUT("Debian's tetgen is not installed")
 
 /// Volume enclosed by a closed oriented surface (divergence theorem), |.| so orientation does not matter.
 double enclosedVolume(const mesh::TriangleMesh& surface) {

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <string>
 
+#include "../missing_input.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "expect_io_error.hpp"
 #include "deformation_enrichment/mesh/gmsh_io.hpp"
@@ -65,7 +66,7 @@ TEST_F(VolumeMeshIo, GmshFilesOfEveryVersionAndEncodingAgree) {
   const std::vector<std::pair<std::string, std::string>> variants = {
       {"msh22", "-format msh22"}, {"msh22b", "-format msh22 -bin"}, {"msh41", "-format msh41"},
       {"msh41b", "-format msh41 -bin"}, {"order2", "-order 2 -format msh41 -bin"}};
-  if (!gmsh("boxes.geo", variants[0].second, "msh22.msh")) GTEST_SKIP() << "Debian's gmsh is not installed";
+  if (!gmsh("boxes.geo", variants[0].second, "msh22.msh")) DE_MISSING_INPUT("Debian's gmsh is not installed");
   const mesh::VolumeMeshFile first = mesh::readVolumeMesh(path("msh22.msh"));
   EXPECT_NEAR(totalVolume(first.mesh), 2.0, 1e-12);
   EXPECT_EQ(first.report.reorientedTets, 0);  // gmsh writes positively oriented tets
@@ -103,7 +104,7 @@ TEST_F(VolumeMeshIo, GmshFilesOfEveryVersionAndEncodingAgree) {
 
 TEST_F(VolumeMeshIo, GmshVtkExportReadThroughVtkMatchesItsMsh) {
   write("boxes.geo", kTwoBoxes);
-  if (!gmsh("boxes.geo", "-format msh41", "boxes.msh")) GTEST_SKIP() << "Debian's gmsh is not installed";
+  if (!gmsh("boxes.geo", "-format msh41", "boxes.msh")) DE_MISSING_INPUT("Debian's gmsh is not installed");
   ASSERT_TRUE(gmsh("boxes.geo", "-format vtk", "boxes.vtk"));  // legacy ASCII 2.0, mixed cells
   const mesh::VolumeMeshFile msh = mesh::readVolumeMesh(path("boxes.msh"));
   const mesh::VolumeMeshFile vtk = mesh::readVolumeMesh(path("boxes.vtk"));
@@ -141,7 +142,7 @@ TEST_F(VolumeMeshIo, GmshInvertedTetsAreReorderedAndBadFilesNamed) {
 
 TEST_F(VolumeMeshIo, TruncatedBinaryGmshNamesTheByte) {
   write("boxes.geo", kTwoBoxes);
-  if (!gmsh("boxes.geo", "-format msh41 -bin", "boxes.msh")) GTEST_SKIP() << "Debian's gmsh is not installed";
+  if (!gmsh("boxes.geo", "-format msh41 -bin", "boxes.msh")) DE_MISSING_INPUT("Debian's gmsh is not installed");
   std::ifstream in(path("boxes.msh"), std::ios::binary);
   std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
   bytes.resize(bytes.size() * 2 / 3);  // inside the binary $Nodes or $Elements data

@@ -133,10 +133,7 @@ TEST(DiscreteShells, SerialAndParallelEvaluationsAgree) {
 // docs/design.md §4: GOAST evaluates W[finger0, finger1] = 0.0919995 (hyperelastic membrane, mu = lambda = 1,
 // bending l^2 / (a1 + a2) weighted by delta = 0.001).
 TEST(DiscreteShells, MatchesGoastOnTheFingerPair) {
-  const std::string directory = std::string(DE_SOURCE_DIR) + "/../shared/data/finger/";
-  if (!std::ifstream(directory + "finger0.ply") || !std::ifstream(directory + "finger1.ply")) {
-    GTEST_SKIP() << "shared data not found at " << directory << " (finger0.ply, finger1.ply)";
-  }
+  const std::string directory = std::string(DE_SOURCE_DIR) + "/test/data/finger/";  // [finger], shipped
   const mesh::TriangleMesh finger0 = mesh::readTriangleMesh(directory + "finger0.ply");
   const mesh::TriangleMesh finger1 = mesh::readTriangleMesh(directory + "finger1.ply");
   ASSERT_EQ(finger0.triangles, finger1.triangles);
@@ -151,10 +148,7 @@ TEST(DiscreteShells, MatchesGoastOnTheFingerPair) {
 // Directional finite differences of every derivative on the real finger pair (2k vertices, a scanned-like
 // surface rather than a synthetic grid), for both membranes.
 TEST(DiscreteShells, DirectionalDerivativesOnTheFingerPair) {
-  const std::string directory = std::string(DE_SOURCE_DIR) + "/../shared/data/finger/";
-  if (!std::ifstream(directory + "finger0.ply") || !std::ifstream(directory + "finger1.ply")) {
-    GTEST_SKIP() << "shared data not found at " << directory << " (finger0.ply, finger1.ply)";
-  }
+  const std::string directory = std::string(DE_SOURCE_DIR) + "/test/data/finger/";  // [finger], shipped
   const mesh::TriangleMesh finger0 = mesh::readTriangleMesh(directory + "finger0.ply");
   const mesh::TriangleMesh finger1 = mesh::readTriangleMesh(directory + "finger1.ply");
   const VectorXd reference = flatten(finger0.vertices), deformed = flatten(finger1.vertices);

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "../missing_input.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "real_sequences.hpp"
 
@@ -95,7 +96,7 @@ protected:
     try {
       rest_ = cgalMesh("elephant");
     } catch (const de::IoError& e) {
-      GTEST_SKIP() << e.what() << " (Debian libcgal-demo)";
+      DE_MISSING_INPUT(e.what() << " (Debian libcgal-demo)");
     }
   }
   ss::ShapeSequence bent(int frames) const { return {rest_.triangles, withNoise(bentSequence(rest_, frames, 1.5), 0.002, 5)}; }
