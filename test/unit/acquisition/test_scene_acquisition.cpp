@@ -9,6 +9,7 @@
 #include <limits>
 #include <unistd.h>
 
+#include "deformation_enrichment/acquisition/fine_convergence.hpp"
 #include "deformation_enrichment/acquisition/held_out_evaluation.hpp"
 #include "deformation_enrichment/acquisition/plan_generation.hpp"
 #include "deformation_enrichment/examples/example_set_io.hpp"
@@ -235,4 +236,36 @@ TEST(SceneAcquisition, ExamplesAreMadeOnARepairedSelfIntersectingSurface) {
     EXPECT_GT(cv::norm(e.stamp, cv::NORM_INF), 1e-6);  // the fine model adds detail the coarse one lacks
   }
   std::filesystem::remove_all(dir);
+}
+
+TEST(FineConvergence, TheTruthIsComparedAcrossFineModelsAtTheSameDisplayVertices) {
+  const scene_file::SceneDescription d = tiny();
+  const acquisition::FineConvergence c = acquisition::fineConvergence(d, {1.0, 2.0}, 1, 11);
+  ASSERT_EQ(c.levels.size(), 2u);
+  EXPECT_GT(c.levels[1].fineTets, c.levels[0].fineTets);
+  ASSERT_EQ(c.contacts.size(), 1u);
+  ASSERT_EQ(c.contacts[0].changeRms.size(), 1u);
+  EXPECT_GT(c.contacts[0].vertices, 10);
+  EXPECT_GT(c.contacts[0].coarseRms, 0.0);
+  // A finer fine model moves the truth, by less than the coarse model is off.
+  EXPECT_GT(c.contacts[0].changeRms[0], 0.0);
+  EXPECT_LT(c.contacts[0].changeRms[0], c.contacts[0].coarseRms);
+  EXPECT_DOUBLE_EQ(c.meanRelativeChange(0), c.contacts[0].changeRms[0] / c.contacts[0].coarseRms);
+  EXPECT_DOUBLE_EQ(c.worstRelativeChange(0), c.meanRelativeChange(0));
+  for (const std::vector<double>& bad : {std::vector<double>{2.0, 4.0}, {1.0, 1.0}, {}})
+    EXPECT_THROW(acquisition::fineConvergence(d, bad, 1, 11), InvalidInputError);
+  EXPECT_THROW(acquisition::fineConvergence(d, {1.0}, 0, 11), InvalidInputError);
+}
+
+TEST(FineConvergence, FinerModelsScaleCellsOrTheLargestTet) {
+  const scene_file::SceneDescription slab = tiny();
+  const scene_file::SceneDescription finer = acquisition::withFinerFineModel(slab, 8.0, {}, {});
+  EXPECT_EQ(finer.procedural->fineCells, Eigen::Vector3i(24, 24, 4));
+  EXPECT_EQ(finer.procedural->fineSkinLayers, 2);
+  EXPECT_EQ(finer.procedural->coarseCells, slab.procedural->coarseCells);
+  scene_file::SceneDescription file;
+  file.surface = "organ.obj";
+  file.fineMaxVolume = 1e-7;
+  EXPECT_DOUBLE_EQ(acquisition::withFinerFineModel(file, 4.0, {}, {}).fineMaxVolume, 2.5e-8);
+  EXPECT_THROW(acquisition::withFinerFineModel(file, 0.5, {}, {}), InvalidInputError);
 }
