@@ -26,12 +26,9 @@ class ShapeSpaceServer {
 public:
   explicit ShapeSpaceServer(ros::NodeHandle privateNh) {
     const std::string membrane = privateNh.param<std::string>("membrane", "hyperelastic");
-    if (membrane == "discrete_shells") {
-      parameters_ = ss::DiscreteShellsParameters::classic();
-    } else {
-      if (membrane != "hyperelastic") ROS_ERROR("unknown ~membrane '%s', using 'hyperelastic'", membrane.c_str());
-      parameters_ = ss::DiscreteShellsParameters::hyperelastic(privateNh.param("bending_weight", 1e-3));
-    }
+    classic_ = membrane == "discrete_shells";
+    if (!classic_ && membrane != "hyperelastic") ROS_ERROR("unknown ~membrane '%s', using 'hyperelastic'", membrane.c_str());
+    bendingWeight_ = privateNh.param("bending_weight", 0.0);
     maxShapes_ = privateNh.param("max_shapes", 2000);
     smooth_ = privateNh.advertiseService("smooth_sequence", &ShapeSpaceServer::smooth, this);
     geodesic_ = privateNh.advertiseService("compute_geodesic", &ShapeSpaceServer::geodesic, this);
@@ -72,6 +69,14 @@ private:
     return result;
   }
 
+  // The shell energy of a request: ~bending_weight when positive, else scaled to the mesh's size from its
+  // first shape as de_smooth and de_smooth_bag do (DiscreteShellsParameters::hyperelasticFor).
+  ss::DiscreteShellsParameters parametersFor(const Eigen::VectorXd& firstShape) const {
+    if (classic_) return ss::DiscreteShellsParameters::classic();
+    return bendingWeight_ > 0.0 ? ss::DiscreteShellsParameters::hyperelastic(bendingWeight_)
+                                : ss::DiscreteShellsParameters::hyperelasticFor(firstShape);
+  }
+
   template <class Response, class Work>
   bool serve(const char* what, Response& response, Work work) {
     const auto start = std::chrono::steady_clock::now();
@@ -90,7 +95,7 @@ private:
   bool smooth(de::SmoothSequence::Request& request, de::SmoothSequence::Response& response) {
     return serve("smooth_sequence", response, [&] {
       ss::ShapeSequence input = sequence(request.topology, request.shapes, 3);
-      const ss::DiscreteShells energy(input.triangles, input.numVertices(), parameters_);
+      const ss::DiscreteShells energy(input.triangles, input.numVertices(), parametersFor(input.shapes.front()));
       ss::FlowOptions options;
       options.tau = request.tau > 0.0 ? request.tau : 0.5;
       options.rho = request.restoring;
@@ -124,7 +129,7 @@ private:
       const Eigen::VectorXd a = shape(request.start, "start"), b = shape(request.end, "end");
       if (a.size() != b.size()) throw de::InvalidInputError("start and end have different vertex counts");
       const Eigen::Matrix3Xi tris = triangles(request.topology, a.size() / 3);
-      const ss::DiscreteShells energy(tris, a.size() / 3, parameters_);
+      const ss::DiscreteShells energy(tris, a.size() / 3, parametersFor(a));
       ss::GeodesicOptions options;
       options.shapes = static_cast<int>(request.shapes);
       options.reduction.reduced = request.subspace > 0;
@@ -141,7 +146,7 @@ private:
     return serve("bezier_curve", response, [&] {
       const ss::ShapeSequence controls = sequence(request.topology, request.controls, 2);
       if (request.samples < 2) throw de::InvalidInputError("need at least 2 samples");
-      const ss::DiscreteShells energy(controls.triangles, controls.numVertices(), parameters_);
+      const ss::DiscreteShells energy(controls.triangles, controls.numVertices(), parametersFor(controls.shapes.front()));
       ss::GeodesicOptions options;
       options.shapes = request.shapes_per_geodesic > 0 ? static_cast<int>(request.shapes_per_geodesic) : 8;
       const auto curve =
@@ -151,7 +156,8 @@ private:
     });
   }
 
-  ss::DiscreteShellsParameters parameters_;
+  bool classic_ = false;
+  double bendingWeight_ = 0.0;  ///< 0: scaled to each request's mesh size
   int maxShapes_ = 2000;
   ros::ServiceServer smooth_, geodesic_, bezier_;
 };

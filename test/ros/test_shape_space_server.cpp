@@ -192,6 +192,43 @@ TEST(DeSmoothBag, SmoothsTheTopicAndCopiesTheRest) {
 // of de_smooth), judged as test_real_sequences judges de_smooth: every step accepted, eq. 4 falling, the
 // shapes' motion smoother, and less volume change than the Gaussian filter wherever that filter needs a
 // wide kernel ([Brandt16 Fig. 8]). Both captures end smoother than any width of the filter.
+// The server and the command-line tool use the same energy (the bending weight scaled to the mesh size) and
+// the same flow, so the same sequence gives the same result through either.
+TEST(DeSmoothBag, GivesWhatTheServerGivesForTheSameSequence) {
+  ASSERT_TRUE(ros::service::waitForService("shape_space_server/smooth_sequence", 20000));
+  const auto frames = noisySequence(6, 0.004);
+  de::SmoothSequence call;
+  call.request.topology = de::ros_layer::messageFromTriangleMesh(box(), header(0));
+  for (size_t f = 0; f < frames.size(); ++f) call.request.shapes.push_back(de::ros_layer::cloudFromPositions(frames[f], header(int(f))));
+  call.request.iterations = 3;
+  call.request.tau = 0.5;
+  ASSERT_TRUE(ros::service::call("shape_space_server/smooth_sequence", call));
+  ASSERT_TRUE(call.response.success) << call.response.message;
+  const std::string in = ::testing::TempDir() + "de_smooth_same_in.bag", out = ::testing::TempDir() + "de_smooth_same_out.bag";
+  {
+    rosbag::Bag bag(in, rosbag::bagmode::Write);
+    bag.write("/rest_mesh", ros::Time(100), call.request.topology);
+    for (size_t f = 0; f < frames.size(); ++f) bag.write("/mesh_state", ros::Time(100 + f), call.request.shapes[f]);
+  }
+  const std::string command = toolDirectory() + "/de_smooth_bag --input " + in + " --output " + out +
+                              " --topic /mesh_state --topology-topic /rest_mesh --iterations 3 --tau 0.5 > /dev/null 2>&1";
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  rosbag::Bag bag(out, rosbag::bagmode::Read);
+  size_t f = 0;
+  double largest = 0.0, moved = 0.0;
+  for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery("/mesh_state"))) {
+    ASSERT_LT(f, frames.size());
+    const Eigen::Matrix3Xf tool = de::ros_layer::positionsFromCloud(*m.instantiate<sensor_msgs::PointCloud2>());
+    const Eigen::Matrix3Xf server = de::ros_layer::positionsFromCloud(call.response.shapes[f]);
+    largest = std::max(largest, double((tool - server).cwiseAbs().maxCoeff()));
+    moved = std::max(moved, double((server - frames[f]).cwiseAbs().maxCoeff()));
+    ++f;
+  }
+  EXPECT_EQ(f, frames.size());
+  EXPECT_GT(moved, 1e-4);         // smoothing moved the shapes
+  EXPECT_LT(largest, 1e-6);       // and both paths agree to float precision
+}
+
 TEST(DeSmoothBag, SmoothsRealNoisyCapturesWithFallingPathEnergyAndLessDistortionThanTheFilter) {
   namespace st = de::shape_space::test;
   std::vector<std::pair<std::string, de::shape_space::ShapeSequence>> captures;
