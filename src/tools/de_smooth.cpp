@@ -2,7 +2,9 @@
 // control, optional restoring force), reduced (PCA subspace + BFGS) or full space (Newton).
 //   de_smooth --input F0.obj F1.obj ... --output DIR --iterations K --tau T --restoring R [--closed]
 //             [--subspace d | --full] [--ghost N] [--json]
-// Writes the smoothed shapes under the same file names in DIR (OBJ or PLY, by extension) and prints one
+//   de_smooth --input clip.md2 --frames A:B --output DIR ...   (an MD2 animation's frames A..B-1)
+// Writes the smoothed shapes under the same file names in DIR (OBJ or PLY, by extension; an MD2 clip's
+// frames as NNN_<frame name>.obj) and prints one
 // JSON object {"path_energy": [input, after step 1, ...], "seconds": s, "status": ..., ...}; progress goes to
 // stderr. path_energy is eq. 4 on the full mesh; with a ghost mesh, ghost_path_energy is the one the step
 // control lowers. A step that no tau lets lower eq. 4 ends the run (stalled); a step whose averages did not
@@ -18,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/mesh/md2_reader.hpp"
 #include "deformation_enrichment/mesh/mesh_io.hpp"
 #include "deformation_enrichment/shape_space/blas_threads.hpp"
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
@@ -29,6 +32,53 @@ namespace ss = deformation_enrichment::shape_space;
 namespace fs = std::filesystem;
 
 namespace {
+
+struct Inputs {
+  std::vector<de::mesh::TriangleMesh> meshes;
+  std::vector<std::string> names;  ///< output file names
+};
+
+// "A:B" (0-based, B exclusive) of a clip with `count` frames; an empty text is every frame.
+std::pair<std::size_t, std::size_t> frameRange(const std::string& text, std::size_t count) {
+  if (text.empty()) return {0, count};
+  const auto colon = text.find(':');
+  std::size_t a = 0, b = 0, usedA = 0, usedB = 0;
+  try {
+    if (colon == std::string::npos) throw std::invalid_argument("no colon");
+    a = std::stoul(text.substr(0, colon), &usedA);
+    b = std::stoul(text.substr(colon + 1), &usedB);
+  } catch (const std::exception&) {
+    usedA = usedB = 0;
+  }
+  if (colon == std::string::npos || usedA != colon || usedB != text.size() - colon - 1)
+    throw de::InvalidInputError("--frames: '" + text + "' is not A:B (0-based, B exclusive)");
+  if (!(a < b && b <= count))
+    throw de::InvalidInputError("--frames " + text + ": needs A < B <= " + std::to_string(count) + " (the clip's frames)");
+  return {a, b};
+}
+
+// Mesh files as they are, or the frames of one MD2 animation (assimp-testmodels' faerie.md2, ...).
+Inputs readInputs(const std::vector<std::string>& paths, const std::string& frames) {
+  Inputs in;
+  const bool md2 = paths.size() == 1 && fs::path(paths[0]).extension() == ".md2";
+  if (!md2) {
+    if (!frames.empty()) throw de::InvalidInputError("--frames selects frames of one .md2 animation");
+    for (const std::string& path : paths) {
+      in.meshes.push_back(de::mesh::readTriangleMesh(path));
+      in.names.push_back(fs::path(path).filename().string());
+    }
+    return in;
+  }
+  de::mesh::Md2Animation clip = de::mesh::readMd2(paths[0]);
+  const auto [first, end] = frameRange(frames, clip.frames.size());
+  for (std::size_t f = first; f < end; ++f) {
+    std::string index = std::to_string(f);
+    index.insert(0, index.size() < 3 ? 3 - index.size() : 0, '0');
+    in.meshes.push_back(std::move(clip.frames[f]));
+    in.names.push_back(index + "_" + clip.frameNames[f] + ".obj");
+  }
+  return in;
+}
 
 // Up to `iterations` flow steps (a stalled one ends the run), reported on stderr and as the JSON summary's
 // per-step arrays and status.
@@ -80,7 +130,7 @@ nlohmann::json run(ss::SmoothingFlow& flow, int iterations) {
 int main(int argc, char** argv) {
   CLI::App app{"Shape-space smoothing flow for deformation sequences ([Brandt16])"};
   std::vector<std::string> inputs;
-  std::string output;
+  std::string output, frames;
   int iterations = 10;
   double tau = 0.5, restoring = 0.0;
   bool closed = false, proportional = false;
@@ -88,7 +138,8 @@ int main(int argc, char** argv) {
   common.ghost = 1250;
   common.subspace = ss::kSmoothingSubspaceDimension;
   std::vector<int> restoredShapes;
-  app.add_option("--input", inputs, "input meshes (OBJ/PLY, same topology), in temporal order")->required();
+  app.add_option("--input", inputs, "input meshes (OBJ/PLY, same topology) in temporal order, or one MD2 animation")->required();
+  app.add_option("--frames", frames, "A:B: the MD2 animation's frames A..B-1 (0-based; default: all)");
   app.add_option("--output", output, "output directory (created if missing)")->required();
   app.add_option("--iterations", iterations, "flow steps")->check(CLI::NonNegativeNumber);
   app.add_option("--tau", tau, "step size in (0, 1]");
@@ -103,9 +154,8 @@ int main(int argc, char** argv) {
 
   try {
     const auto start = std::chrono::steady_clock::now();
-    std::vector<de::mesh::TriangleMesh> meshes;
-    for (const std::string& path : inputs) meshes.push_back(de::mesh::readTriangleMesh(path));
-    const ss::ShapeSequence sequence = ss::makeSequence(meshes);
+    const Inputs in = readInputs(inputs, frames);
+    const ss::ShapeSequence sequence = ss::makeSequence(in.meshes);
     const ss::DiscreteShells energy(sequence.triangles, sequence.numVertices(), common.parameters(sequence.shapes.front()));
     ss::FlowOptions options;
     options.tau = tau;
@@ -117,19 +167,17 @@ int main(int argc, char** argv) {
     options.weights = proportional ? ss::FlowWeights::ProportionPreserving : ss::FlowWeights::Fixed;
     options.parallelShapes = true;  // DiscreteShells is thread-safe; the Jacobi update makes shapes independent
     ss::SmoothingFlow flow(energy, sequence, options);
-    std::cerr << "de_smooth: " << inputs.size() << " shapes, " << sequence.numVertices() << " vertices, path energy "
+    std::cerr << "de_smooth: " << in.meshes.size() << " shapes, " << sequence.numVertices() << " vertices, path energy "
               << flow.pathEnergy() << "\n";
     nlohmann::json out = run(flow, iterations);
     const int accepted = out["accepted_steps"].get<int>();
     fs::create_directories(output);
-    for (size_t i = 0; i < inputs.size(); ++i) {
-      de::mesh::TriangleMesh m = ss::shapeMesh(flow.current(), Eigen::Index(i));
-      de::mesh::writeTriangleMesh((fs::path(output) / fs::path(inputs[i]).filename()).string(), m);
-    }
+    for (size_t i = 0; i < in.meshes.size(); ++i)
+      de::mesh::writeTriangleMesh((fs::path(output) / in.names[i]).string(), ss::shapeMesh(flow.current(), Eigen::Index(i)));
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (common.json) {
       out["seconds"] = seconds;
-      out["shapes"] = inputs.size();
+      out["shapes"] = in.meshes.size();
       out["vertices"] = sequence.numVertices();
       out["mode"] = common.full ? "full" : "reduced";
       std::cout << out.dump() << std::endl;

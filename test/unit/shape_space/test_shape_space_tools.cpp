@@ -10,6 +10,7 @@
 
 #include "deformation_enrichment/mesh/mesh_io.hpp"
 #include "deformation_enrichment/shape_space/shape_sequence.hpp"
+#include "../missing_input.hpp"
 #include "flow_test_sequences.hpp"
 
 namespace fs = std::filesystem;
@@ -91,5 +92,32 @@ TEST(ShapeSpaceTools, SmoothAndGeodesicWriteMeshesAndJson) {
                                   (dir / "frame1.obj").string() + " --output " + (dir / "bad").string() + " --json", &status);
   EXPECT_NE(status, 0);
   EXPECT_TRUE(bad.empty());
+  fs::remove_all(dir);
+}
+
+// An MD2 animation straight in (Debian assimp-testmodels): a frame range, one OBJ per frame named by its
+// index and MD2 name, and a clear refusal of ranges the clip does not have.
+TEST(ShapeSpaceTools, SmoothReadsAnMd2ClipsFrames) {
+  const std::string clip = "/usr/share/assimp/models/MD2/faerie.md2";
+  if (!fs::exists(clip)) DE_MISSING_INPUT("assimp-testmodels is not installed");
+  const fs::path dir = fs::path(::testing::TempDir()) / "de_smooth_md2";
+  fs::remove_all(dir);
+  int status = 0;
+  const std::string json = run(tool("de_smooth") + " --input " + clip + " --frames 0:6 --iterations 2 --output " + dir.string() + " --json", &status);
+  ASSERT_EQ(status, 0) << json;
+  const nlohmann::json out = nlohmann::json::parse(json);
+  EXPECT_EQ(out["shapes"], 6);
+  EXPECT_EQ(out["accepted_steps"], 2);
+  EXPECT_LT(out["path_energy"].back().get<double>(), out["path_energy"].front().get<double>());
+  std::size_t written = 0;
+  for (const auto& entry : fs::directory_iterator(dir)) written += entry.path().extension() == ".obj";
+  EXPECT_EQ(written, 6u);
+  EXPECT_TRUE(fs::exists(dir / "000_stand01.obj"));
+  for (const char* frames : {"6:2", "0:100000", "a:b", "3"}) {
+    SCOPED_TRACE(frames);
+    EXPECT_TRUE(run(tool("de_smooth") + " --input " + clip + " --frames " + frames + " --output " + (dir / "bad").string() + " --json", &status).empty());
+    EXPECT_EQ(WEXITSTATUS(status), 1);
+    EXPECT_FALSE(fs::exists(dir / "bad"));
+  }
   fs::remove_all(dir);
 }
