@@ -42,14 +42,12 @@ Mesh toMesh(const std::vector<Point>& points, const std::vector<Triangle>& trian
   return mesh;
 }
 
-Mesh toMesh(const TriangleMesh& surface) {
-  std::vector<Point> points;
+// The surface as CGAL's polygon soup.
+void toSoup(const TriangleMesh& surface, std::vector<Point>& points, std::vector<Triangle>& triangles) {
   for (Eigen::Index v = 0; v < surface.numVertices(); ++v) points.emplace_back(surface.vertices(0, v), surface.vertices(1, v), surface.vertices(2, v));
-  std::vector<Triangle> triangles;
   for (Eigen::Index f = 0; f < surface.numTriangles(); ++f)
     triangles.push_back({static_cast<std::size_t>(surface.triangles(0, f)), static_cast<std::size_t>(surface.triangles(1, f)),
                          static_cast<std::size_t>(surface.triangles(2, f))});
-  return toMesh(points, triangles);
 }
 
 TriangleMesh fromMesh(Mesh mesh) {
@@ -134,33 +132,24 @@ void removeSelfIntersections(Mesh& mesh) {
   pmp::experimental::remove_self_intersections(mesh, CGAL::parameters::preserve_genus(false));
 }
 
-double signedVolume(const Mesh& mesh) {
-  double volume = 0.0;
-  for (Mesh::Face_index f : mesh.faces()) {
-    std::array<Point, 3> p;
-    int k = 0;
-    for (Mesh::Vertex_index v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) p[static_cast<std::size_t>(k++)] = mesh.point(v);
-    volume += CGAL::to_double(CGAL::cross_product(p[0] - CGAL::ORIGIN, p[1] - CGAL::ORIGIN) * (p[2] - CGAL::ORIGIN)) / 6.0;
-  }
-  return volume;
-}
-
 }  // namespace
 
 Eigen::Index countSelfIntersections(const TriangleMesh& surface) {
   checkInput(surface);
-  return selfIntersections(toMesh(surface));
+  std::vector<Point> points;
+  std::vector<Triangle> triangles;
+  toSoup(surface, points, triangles);
+  if (!pmp::is_polygon_soup_a_polygon_mesh(triangles))
+    throw InvalidInputError("countSelfIntersections: the surface is not an oriented manifold (repairSurface first)");
+  return selfIntersections(toMesh(points, triangles));
 }
 
 SurfaceRepair repairSurface(const TriangleMesh& surface, const SurfaceRepairOptions& options) {
   checkInput(surface);
   SurfaceRepairReport r;
   std::vector<Point> points;
-  for (Eigen::Index v = 0; v < surface.numVertices(); ++v) points.emplace_back(surface.vertices(0, v), surface.vertices(1, v), surface.vertices(2, v));
   std::vector<Triangle> triangles;
-  for (Eigen::Index f = 0; f < surface.numTriangles(); ++f)
-    triangles.push_back({static_cast<std::size_t>(surface.triangles(0, f)), static_cast<std::size_t>(surface.triangles(1, f)),
-                         static_cast<std::size_t>(surface.triangles(2, f))});
+  toSoup(surface, points, triangles);
   const std::size_t pointsIn = points.size(), trianglesIn = triangles.size();
   removeZeroArea(points, triangles);
   pmp::repair_polygon_soup(points, triangles);  // merges duplicates, drops duplicate triangles and unused points
@@ -180,7 +169,7 @@ SurfaceRepair repairSurface(const TriangleMesh& surface, const SurfaceRepairOpti
   r.selfIntersectionsLeft = r.selfIntersections > 0 ? selfIntersections(mesh) : 0;
   r.boundaryEdgesLeft = boundaryEdges(mesh);
   if (r.closedAndSelfIntersectionFree()) {
-    r.reoriented = signedVolume(mesh) < 0.0;
+    r.reoriented = pmp::volume(mesh) < 0.0;  // signed: negative when the surface faces inwards
     pmp::orient_to_bound_a_volume(mesh);
   }
   SurfaceRepair out;

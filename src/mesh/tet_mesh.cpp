@@ -14,6 +14,12 @@ double signedVolume(const TetMesh& mesh, Eigen::Index t) {
   return edges.determinant() / 6.0;
 }
 
+double totalVolume(const TetMesh& mesh) {
+  double volume = 0.0;
+  for (Eigen::Index t = 0; t < mesh.numTets(); ++t) volume += signedVolume(mesh, t);
+  return volume;
+}
+
 void validate(const TetMesh& mesh, bool requireNonDegenerate) {
   if (mesh.numVertices() == 0) throw InvalidInputError("tet mesh has no vertices");
   if (mesh.numTets() == 0) throw InvalidInputError("tet mesh has no tetrahedra");

@@ -56,12 +56,6 @@ TetMesh refineOnce(const TetMesh& mesh) {
   return out;
 }
 
-double totalVolume(const TetMesh& mesh) {
-  double volume = 0.0;
-  for (Eigen::Index t = 0; t < mesh.numTets(); ++t) volume += signedVolume(mesh, t);
-  return volume;
-}
-
 }  // namespace
 
 TetMesh refineTets(const TetMesh& mesh, int levels) {

@@ -34,6 +34,16 @@ void validate(const TriangleMesh& mesh, bool requireNonDegenerate) {
   }
 }
 
+double enclosedVolume(const TriangleMesh& mesh) {
+  double volume = 0.0;
+  for (Eigen::Index t = 0; t < mesh.numTriangles(); ++t) {
+    Eigen::Matrix3d corners;
+    for (int k = 0; k < 3; ++k) corners.col(k) = mesh.vertices.col(mesh.triangles(k, t));
+    volume += corners.determinant() / 6.0;
+  }
+  return volume;
+}
+
 Eigen::Matrix3Xd vertexNormals(const TriangleMesh& mesh) {
   Eigen::Matrix3Xd normals = Eigen::Matrix3Xd::Zero(3, mesh.numVertices());
   for (Eigen::Index t = 0; t < mesh.numTriangles(); ++t) {

@@ -20,6 +20,9 @@ void validate(const TetMesh& mesh, bool requireNonDegenerate = true);
 /// Signed volume of tet t.
 double signedVolume(const TetMesh& mesh, Eigen::Index t);
 
+/// Sum of the tets' signed volumes.
+double totalVolume(const TetMesh& mesh);
+
 /// Lumped vertex volumes: each vertex gets one quarter of the volume of every incident tet.
 Eigen::VectorXd lumpedVertexVolumes(const TetMesh& mesh);
 

@@ -16,6 +16,9 @@ struct TriangleMesh {
 /// out-of-range or repeated indices in a triangle, or (when requireNonDegenerate) a zero-area triangle.
 void validate(const TriangleMesh& mesh, bool requireNonDegenerate = true);
 
+/// Volume a closed surface encloses (divergence theorem): positive when it faces outwards.
+double enclosedVolume(const TriangleMesh& mesh);
+
 /// Per-vertex area-weighted unit normals (zero vector for an isolated vertex).
 Eigen::Matrix3Xd vertexNormals(const TriangleMesh& mesh);
 

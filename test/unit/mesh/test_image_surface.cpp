@@ -18,16 +18,6 @@ using namespace deformation_enrichment;
 
 namespace {
 
-double enclosedVolume(const mesh::TriangleMesh& surface) {  // signed: positive when outward
-  double volume = 0.0;
-  for (Eigen::Index t = 0; t < surface.numTriangles(); ++t) {
-    Eigen::Matrix3d corners;
-    for (int k = 0; k < 3; ++k) corners.col(k) = surface.vertices.col(surface.triangles(k, t));
-    volume += corners.determinant() / 6.0;
-  }
-  return volume;
-}
-
 /// A ball of radius 12 voxels (label 3) in a 40^3 image of 1 x 1 x 2 mm voxels: an ellipsoid in voxels.
 mesh::LabelImage ball() {
   mesh::LabelImage image;
@@ -52,7 +42,7 @@ TEST(ImageSurface, BallOfAnisotropicVoxelsGivesAClosedOutwardSphere) {
   EXPECT_TRUE(mesh::inspectSurface(sphere).closedManifold());
   EXPECT_NEAR(double(sphere.numVertices()), 800.0, 80.0);
   const double exact = 4.0 / 3.0 * M_PI * std::pow(0.012, 3);
-  EXPECT_NEAR(enclosedVolume(sphere), exact, 0.05 * exact);  // outward and about the right size
+  EXPECT_NEAR(mesh::enclosedVolume(sphere), exact, 0.05 * exact);  // outward and about the right size
   const Eigen::Vector3d centre(0.0195, 0.0195, 0.019);
   for (Eigen::Index v = 0; v < sphere.numVertices(); ++v)
     EXPECT_NEAR((sphere.vertices.col(v) - centre).norm(), 0.012, 0.0015) << v;
@@ -76,7 +66,7 @@ TEST(ImageSurface, CgalLiverGivesADisplaySurfaceAndAnEnclosingCoarseVolume) {
   const mesh::TriangleMesh display = mesh::imageSurface(liver, options);
   EXPECT_NEAR(double(display.numVertices()), 5000.0, 500.0);
   const double voxelVolume = double(voxels) * liver.spacing.prod();  // 1.77 litres
-  EXPECT_NEAR(enclosedVolume(display), voxelVolume, 0.05 * voxelVolume);
+  EXPECT_NEAR(mesh::enclosedVolume(display), voxelVolume, 0.05 * voxelVolume);
   if (std::system("command -v tetgen > /dev/null") != 0) DE_MISSING_INPUT("Debian's tetgen is not installed");
   const mesh::Tetrahedralisation fine = mesh::tetrahedralise(display);  // the display surface conforms
   EXPECT_EQ(fine.mesh.vertices.leftCols(display.numVertices()), display.vertices);

@@ -29,17 +29,6 @@ mesh::TriangleMesh joined(const mesh::TriangleMesh& a, const mesh::TriangleMesh&
   return out;
 }
 
-// Signed enclosed volume (divergence theorem): positive for an outward surface.
-double signedVolume(const mesh::TriangleMesh& surface) {
-  double volume = 0.0;
-  for (Eigen::Index t = 0; t < surface.numTriangles(); ++t) {
-    Eigen::Matrix3d corners;
-    for (int k = 0; k < 3; ++k) corners.col(k) = surface.vertices.col(surface.triangles(k, t));
-    volume += corners.determinant() / 6.0;
-  }
-  return volume;
-}
-
 void expectFillable(const mesh::SurfaceRepair& repair) {
   EXPECT_TRUE(repair.report.closedAndSelfIntersectionFree()) << mesh::describe(repair.report);
   EXPECT_TRUE(mesh::inspectSurface(repair.surface).closedManifold());
@@ -69,7 +58,7 @@ TEST(SurfaceRepair, OverlappingPiecesBecomeTheirUnion) {
   expectFillable(repair);
   EXPECT_GT(repair.report.selfIntersections, 0);
   // Union: the unit cube plus the part of the second box outside it (0.5 x 0.53 x 0.59).
-  EXPECT_NEAR(signedVolume(repair.surface), 1.0 + 0.5 * 0.53 * 0.59, 1e-9);
+  EXPECT_NEAR(mesh::enclosedVolume(repair.surface), 1.0 + 0.5 * 0.53 * 0.59, 1e-9);
   EXPECT_NE(mesh::describe(repair.report).find("self-intersecting pairs"), std::string::npos);
 }
 
@@ -96,7 +85,7 @@ TEST(SurfaceRepair, DuplicatesHolesInwardFacesAndDebrisAreRepaired) {
   EXPECT_EQ(repair.report.removedTriangles, 2);  // the duplicate and the zero-area one
   EXPECT_EQ(repair.report.mergedVertices, 1);   // the zero-area triangle's middle vertex, then unused
   EXPECT_TRUE(repair.report.reoriented);
-  EXPECT_NEAR(signedVolume(repair.surface), 1.0, 1e-9);
+  EXPECT_NEAR(mesh::enclosedVolume(repair.surface), 1.0, 1e-9);
 }
 
 TEST(SurfaceRepair, TheShippedDirtySurfaceIsRepaired) {
@@ -107,7 +96,7 @@ TEST(SurfaceRepair, TheShippedDirtySurfaceIsRepaired) {
   expectFillable(repair);
   EXPECT_EQ(repair.report.selfIntersections, crossings);
   // The union is larger than the larger lobe and smaller than both together (volumes of the polyhedra).
-  const double volume = signedVolume(repair.surface);
+  const double volume = mesh::enclosedVolume(repair.surface);
   EXPECT_GT(volume, 4.0 / 3.0 * M_PI * 20 * 20 * 20 * 0.95);
   EXPECT_LT(volume, 4.0 / 3.0 * M_PI * (20 * 20 * 20 + 14 * 14 * 14));
 }

@@ -12,12 +12,6 @@ using namespace deformation_enrichment;
 
 namespace {
 
-double volume(const mesh::TetMesh& m) {
-  double v = 0.0;
-  for (Eigen::Index t = 0; t < m.numTets(); ++t) v += mesh::signedVolume(m, t);
-  return v;
-}
-
 // Every face of a conforming mesh belongs to one tet (boundary) or two (interior), never more.
 void expectConforming(const mesh::TetMesh& m) {
   std::map<std::set<int>, int> faces;
@@ -40,7 +34,7 @@ TEST(TetRefinement, EachTetBecomesEightThatFillItExactly) {
     const mesh::TetMesh fine = mesh::refineTets(coarse, levels);
     EXPECT_EQ(fine.numTets(), coarse.numTets() << (3 * levels));
     EXPECT_NO_THROW(mesh::validate(fine));  // every child positively oriented
-    EXPECT_NEAR(volume(fine), 1.0, 1e-12);
+    EXPECT_NEAR(mesh::totalVolume(fine), 1.0, 1e-12);
     EXPECT_EQ(fine.vertices.leftCols(coarse.numVertices()), coarse.vertices);
     expectConforming(fine);
     // The boundary is the same box: its area is unchanged and no boundary node lies inside.

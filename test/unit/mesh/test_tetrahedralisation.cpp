@@ -29,23 +29,6 @@ bool haveTetgen() { return std::system("command -v tetgen > /dev/null") == 0; }
 #define DE_REQUIRE_TETGEN() \
   if (!haveTetgen()) DE_MISSING_INPUT("Debian's tetgen is not installed")
 
-/// Volume enclosed by a closed oriented surface (divergence theorem), |.| so orientation does not matter.
-double enclosedVolume(const mesh::TriangleMesh& surface) {
-  double volume = 0.0;
-  for (Eigen::Index t = 0; t < surface.numTriangles(); ++t) {
-    Eigen::Matrix3d corners;
-    for (int k = 0; k < 3; ++k) corners.col(k) = surface.vertices.col(surface.triangles(k, t));
-    volume += corners.determinant() / 6.0;
-  }
-  return std::abs(volume);
-}
-
-double totalVolume(const mesh::TetMesh& mesh) {
-  double volume = 0.0;
-  for (Eigen::Index t = 0; t < mesh.numTets(); ++t) volume += mesh::signedVolume(mesh, t);
-  return volume;
-}
-
 /// A triangle as a sorted corner triple, to compare triangle sets regardless of rotation and winding.
 std::set<std::array<int, 3>> triangleSet(const Eigen::Matrix3Xi& triangles, const std::vector<int>& map = {}) {
   std::set<std::array<int, 3>> set;
@@ -97,7 +80,7 @@ TEST(Tetrahedralisation, KeepsTheSurfaceVerticesAndTrianglesOfCgalMeshes) {
     EXPECT_GT(fine.mesh.numVertices(), surface.numVertices()) << name;  // -q adds interior points
     const mesh::TetSurface boundary = mesh::extractSurface(fine.mesh);
     EXPECT_EQ(triangleSet(boundary.surface.triangles, boundary.surfaceToVolume), triangleSet(surface.triangles)) << name;
-    EXPECT_NEAR(totalVolume(fine.mesh), enclosedVolume(surface), 1e-9 * enclosedVolume(surface)) << name;
+    EXPECT_NEAR(mesh::totalVolume(fine.mesh), std::abs(mesh::enclosedVolume(surface)), 1e-9 * std::abs(mesh::enclosedVolume(surface))) << name;
     EXPECT_GT(fine.seconds, 0.0);
     EXPECT_EQ(fine.command, "-pzQFq1.5Y");
   }
@@ -111,7 +94,7 @@ TEST(Tetrahedralisation, VolumeLimitRefines) {
   const mesh::Tetrahedralisation refined = mesh::tetrahedralise(cube(), options);
   EXPECT_GE(refined.mesh.numTets(), 1000);
   for (Eigen::Index t = 0; t < refined.mesh.numTets(); ++t) EXPECT_LE(mesh::signedVolume(refined.mesh, t), 0.001 * (1 + 1e-9));
-  EXPECT_NEAR(totalVolume(refined.mesh), 1.0, 1e-12);
+  EXPECT_NEAR(mesh::totalVolume(refined.mesh), 1.0, 1e-12);
   EXPECT_EQ(refined.surfaceVertices, 0);
 }
 

@@ -48,12 +48,6 @@ const char* kTwoBoxes =
     "Physical Volume(7) = {1};\nPhysical Volume(9) = {2};\nPhysical Surface(3) = {1};\n"
     "Mesh.CharacteristicLengthMax = 0.5;\n";
 
-double totalVolume(const mesh::TetMesh& mesh) {
-  double volume = 0.0;
-  for (Eigen::Index t = 0; t < mesh.numTets(); ++t) volume += mesh::signedVolume(mesh, t);
-  return volume;
-}
-
 mesh::VolumeMeshFile readMsh(const std::string& text) {
   std::istringstream in(text, std::ios::binary);
   return mesh::readGmsh(in, "test.msh");
@@ -68,7 +62,7 @@ TEST_F(VolumeMeshIo, GmshFilesOfEveryVersionAndEncodingAgree) {
       {"msh41b", "-format msh41 -bin"}, {"order2", "-order 2 -format msh41 -bin"}};
   if (!gmsh("boxes.geo", variants[0].second, "msh22.msh")) DE_MISSING_INPUT("Debian's gmsh is not installed");
   const mesh::VolumeMeshFile first = mesh::readVolumeMesh(path("msh22.msh"));
-  EXPECT_NEAR(totalVolume(first.mesh), 2.0, 1e-12);
+  EXPECT_NEAR(mesh::totalVolume(first.mesh), 2.0, 1e-12);
   EXPECT_EQ(first.report.reorientedTets, 0);  // gmsh writes positively oriented tets
   EXPECT_EQ(first.report.unusedNodes, 0);
   EXPECT_GT(first.report.skippedCells.at("triangle"), 0);  // the physical surface

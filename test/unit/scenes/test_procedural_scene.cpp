@@ -9,11 +9,6 @@
 using namespace deformation_enrichment;
 
 namespace {
-double totalVolume(const mesh::TetMesh& m) {
-  double volume = 0.0;
-  for (Eigen::Index t = 0; t < m.numTets(); ++t) volume += mesh::signedVolume(m, t);
-  return volume;
-}
 double skinVolume(const scenes::Scene& s) {
   double volume = 0.0;
   for (Eigen::Index t = 0; t < s.mesh.numTets(); ++t)
@@ -29,7 +24,7 @@ TEST(ProceduralScene, DefaultSlabMatchesSpecification) {
   EXPECT_NEAR(slab.mesh.vertices.row(0).maxCoeff(), 0.05, 1e-15);
   EXPECT_NEAR(slab.mesh.vertices.row(2).minCoeff(), 0.0, 1e-15);
   EXPECT_NEAR(slab.mesh.vertices.row(2).maxCoeff(), 0.02, 1e-15);
-  EXPECT_NEAR(totalVolume(slab.mesh), 0.1 * 0.1 * 0.02, 1e-15);
+  EXPECT_NEAR(mesh::totalVolume(slab.mesh), 0.1 * 0.1 * 0.02, 1e-15);
   EXPECT_NEAR(skinVolume(slab), 0.1 * 0.1 * 0.001, 1e-15);  // the skin is exactly the top millimetre
   EXPECT_EQ(slab.mesh.numTets(), 20 * 20 * 5 * 6);
   for (int v : slab.fixedVertices) EXPECT_EQ(slab.mesh.vertices(2, v), 0.0);
@@ -52,7 +47,7 @@ TEST(ProceduralScene, PillowAndMeniscusAreValidClosedVolumes) {
   // Volume of the bulged box: integral of the top height over the footprint = 4 a b (e + (h - e) 4/9);
   // the tets interpolate the height linearly, so allow the discretisation error.
   const double exact = 4 * 0.05 * 0.04 * (0.008 + 0.022 * 4.0 / 9.0);
-  EXPECT_NEAR(totalVolume(pillow.mesh), exact, 0.02 * exact);
+  EXPECT_NEAR(mesh::totalVolume(pillow.mesh), exact, 0.02 * exact);
 
   const scenes::Scene meniscus = scenes::makeMeniscus();
   EXPECT_NO_THROW(mesh::validate(meniscus.mesh));
