@@ -89,7 +89,7 @@ std::unique_ptr<EnrichmentSession::Built> EnrichmentSession::build(const RestSur
   const mesh::TetMesh* volume = rest.geometry.volume ? &*rest.geometry.volume : nullptr;
   result->enricher = std::make_unique<ContactEnricher>(
       surfaceEnricher(rest.geometry.surface, volume, options, options_.density, &result->siteDensity));
-  ExampleBlenderOptions blending;
+  ExampleBlenderOptions blending = options_.blending;
   blending.method = knobs.blend;
   result->enricher->setExamples(withDeformationOrder(set, order), blending);
   result->enricher->setKernelWidths(knobs.sigmaRho, knobs.sigmaU);

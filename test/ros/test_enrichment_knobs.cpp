@@ -123,6 +123,18 @@ protected:
   ros::Time lastStamp_;
 };
 
+// What de_evaluate scores with flags is a start-up parameter of the node; /diagnostics shows the values in
+// use (the nodelet's launch file sets two of them away from config/enrichment.yaml's).
+TEST_F(EnrichmentKnobsTest, StartUpBlendParametersAreInUse) {
+  ros::NodeHandle privateNh("~");
+  const std::string rimBand = privateNh.param<std::string>("expect_rim_band", "0.1");
+  const std::string lambda = privateNh.param<std::string>("expect_rbf_lambda", "0.001");
+  EXPECT_EQ(diagnosticAfterChange("rim band", rimBand), rimBand);
+  EXPECT_EQ(diagnosticAfterChange("rbf lambda", lambda), lambda);
+  EXPECT_EQ(diagnosticAfterChange("magnitude aware", "true"), "true");
+  EXPECT_EQ(diagnosticAfterChange("cross-validated gain", "true"), "true");
+}
+
 TEST_F(EnrichmentKnobsTest, StampGainScalesTheAddedDisplacementFromTheNextState) {
   setRest(slabSurface(20));
   const std::string directory = ::testing::TempDir() + "de_knobs_gain_set";

@@ -52,6 +52,9 @@ struct SessionOptions {
   /// acquisition); a shellThickness <= 0 means three window scales of the set.
   descriptors::SiteDensityOptions density{descriptors::SiteDensitySource::Auto, 0.0015, 0.0, 0.002};
   ContactContinuityOptions continuity;
+  /// How a loaded set is blended: the RBF's lambda and the cross-validated gain (the method comes from the
+  /// knobs, the rest as ExampleBlenderOptions' defaults).
+  ExampleBlenderOptions blending;
   /// The tissue being enriched, when known: a set acquired on another material has its stamps scaled by
   /// materialSimilarity(set's scene, this scene) (material_similarity.hpp); none, or a set without
   /// provenance: 1.

@@ -286,6 +286,10 @@ void EnrichmentNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& statu
   status.add("blend", session.blend);
   status.add("material similarity (stamp scale)", session.materialSimilarity);
   status.add("stamp gain", knobs.stampGain);
+  status.add("rim band", parameters_.session.defaults.rimBand);
+  status.add("magnitude aware", parameters_.session.defaults.magnitudeAware ? "true" : "false");
+  status.add("rbf lambda", parameters_.session.blending.lambda);
+  status.add("cross-validated gain", parameters_.session.blending.crossValidatedGain ? "true" : "false");
   status.add("hermite order requested (0 = set's)", knobs.hermiteOrder);
   if (session.hermiteOrder > 0) {
     status.add("hermite order", session.hermiteOrder);

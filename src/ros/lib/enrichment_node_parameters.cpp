@@ -46,6 +46,11 @@ void readSession(const ros::NodeHandle& nh, EnrichmentNodeParameters& p) {
     ROS_ERROR("~site_density: %s; using auto", e.what());
   }
   density.shellThickness = checked(nh, "shell_thickness", 0.0, nonNegative, ">= 0 (0: three window scales)");
+  // What de_evaluate's --rim-band, --correlation-only, --lambda and --no-cv-gain score, for the node.
+  defaults.rimBand = checked(nh, "rim_band", defaults.rimBand, [](double v) { return v >= 0.0 && v < 1.0; }, "in [0, 1)");
+  defaults.magnitudeAware = nh.param("magnitude_aware", defaults.magnitudeAware);
+  p.session.blending.lambda = checked(nh, "rbf_lambda", p.session.blending.lambda, positive, "positive");
+  p.session.blending.crossValidatedGain = nh.param("cross_validated_gain", p.session.blending.crossValidatedGain);
   if (nh.hasParam("max_outside")) p.maxOutside = checked(nh, "max_outside", density.maxOutside, nonNegative, ">= 0");
 }
 
