@@ -147,6 +147,9 @@ public:
   explicit MshReader(MshInput& in) : in_(in) {}
 
   VolumeMeshFile read() {
+    const std::string first = in_.word("$MeshFormat or $NOD");
+    if (first == "$NOD") return readVersion1();
+    if (first != "$MeshFormat") in_.fail("expected $MeshFormat (or $NOD of MSH 1.0), found '" + first.substr(0, 40) + "'");
     readFormat();
     bool nodes = false, elements = false;
     while (!in_.atEnd()) {
@@ -175,8 +178,32 @@ public:
   }
 
 private:
+  /// MSH 1.0 (SOFA's meshes, e.g. liver.msh): $NOD (tag x y z per node) and $ELM (tag, type, physical and
+  /// elementary region, node count, node tags per element), ASCII only [gmsh].
+  VolumeMeshFile readVersion1() {
+    const long nodes = in_.integer("node count");
+    for (long i = 0; i < nodes; ++i) {
+      addNode(in_.integer("node tag"));
+      for (int k = 0; k < 3; ++k) positions_.push_back(in_.real("coordinate"));
+    }
+    in_.expect("$ENDNOD");
+    in_.expect("$ELM");
+    const long elements = in_.integer("element count");
+    for (long e = 0; e < elements; ++e) {
+      in_.integer("element tag");
+      const long location = in_.line();
+      const ElementType* known = knownType(in_.integer("element type"));
+      const int region = static_cast<int>(in_.integer("physical region"));
+      in_.integer("elementary region");
+      if (in_.integer("node count") != known->nodes) in_.fail("node count does not match the element type");
+      element(*known, region, location, [&] { return in_.integer("node tag"); });
+    }
+    in_.expect("$ENDELM");
+    if (!in_.atEnd()) in_.fail("content after $ENDELM");
+    return resolve();
+  }
+
   void readFormat() {
-    in_.expect("$MeshFormat");
     const std::string version = in_.word("the format version");
     if (version == "4.1") version4_ = true;
     else if (version.rfind("2.", 0) != 0)

@@ -59,7 +59,7 @@ TEST_F(VolumeMeshIo, GmshFilesOfEveryVersionAndEncodingAgree) {
   write("boxes.geo", kTwoBoxes);
   const std::vector<std::pair<std::string, std::string>> variants = {
       {"msh22", "-format msh22"}, {"msh22b", "-format msh22 -bin"}, {"msh41", "-format msh41"},
-      {"msh41b", "-format msh41 -bin"}, {"order2", "-order 2 -format msh41 -bin"}};
+      {"msh41b", "-format msh41 -bin"}, {"order2", "-order 2 -format msh41 -bin"}, {"msh1", "-format msh1"}};
   if (!gmsh("boxes.geo", variants[0].second, "msh22.msh")) DE_MISSING_INPUT("Debian's gmsh is not installed");
   const mesh::VolumeMeshFile first = mesh::readVolumeMesh(path("msh22.msh"));
   EXPECT_NEAR(mesh::totalVolume(first.mesh), 2.0, 1e-12);
@@ -132,6 +132,22 @@ TEST_F(VolumeMeshIo, GmshInvertedTetsAreReorderedAndBadFilesNamed) {
   test::expectIoError([&] { readMsh(header + nodes + "$Elements\n1\n1 2 0 1 2 3\n$EndElements\n"); }, {"no tetrahedra"});
   test::expectIoError([&] { readMsh(header + "$Junk\n"); }, {"$Junk has no $EndJunk"});
   test::expectIoError([&] { mesh::readGmsh(path("missing.msh")); }, {"missing.msh"});
+}
+
+// MSH 1.0, as SOFA's meshes (liver.msh) are written: no $MeshFormat, $NOD / $ELM with two region tags.
+TEST_F(VolumeMeshIo, GmshVersion1IsReadAndBadFilesNamed) {
+  const std::string nodes = "$NOD\n5\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n9 1 1 1\n$ENDNOD\n";
+  const mesh::VolumeMeshFile read = readMsh(nodes + "$ELM\n3\n1 4 5 1 4 1 2 3 4\n2 4 0 1 4 3 2 4 9\n3 2 0 1 3 1 2 3\n$ENDELM\n");
+  EXPECT_EQ(read.mesh.numTets(), 2);
+  EXPECT_EQ(read.report.reorientedTets, 1);
+  EXPECT_EQ(read.report.skippedCells.at("triangle"), 1);
+  EXPECT_EQ(read.region, Eigen::Vector2i(5, 0));
+  EXPECT_NO_THROW(mesh::validate(read.mesh));
+  test::expectIoError([&] { readMsh(nodes + "$ELM\n1\n1 4 0 1 3 1 2 3\n$ENDELM\n"); }, {"node count does not match"});
+  test::expectIoError([&] { readMsh(nodes + "$ELM\n1\n1 4 0 1 4 1 2 3 4\n$ENDELM\nextra\n"); }, {"after $ENDELM"});
+  test::expectIoError([&] { readMsh(nodes + "$ELM\n1\n1 4 0 1 4 1 2 3 7\n$ENDELM\n"); }, {"node tag 7"});
+  test::expectIoError([&] { readMsh("$NOD\n1\n1 0 0\n"); }, {"test.msh"});
+  test::expectIoError([&] { readMsh("$Nodes\n1\n"); }, {"expected $MeshFormat"});
 }
 
 TEST_F(VolumeMeshIo, TruncatedBinaryGmshNamesTheByte) {
