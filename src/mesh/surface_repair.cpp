@@ -161,6 +161,8 @@ SurfaceRepair repairSurface(const TriangleMesh& surface, const SurfaceRepairOpti
   r.splitVertices = static_cast<Eigen::Index>(points.size() - pointsRepaired);
   for (std::size_t f = 0; f < triangles.size(); ++f) r.flippedTriangles += triangles[f] != unoriented[f];
   if (triangles.empty()) throw InvalidInputError("repairSurface: no triangle with area is left");
+  if (!pmp::is_polygon_soup_a_polygon_mesh(triangles))  // orientation failed (CGAL would assert below)
+    throw InvalidInputError("repairSurface: the triangles cannot be made an oriented manifold");
   Mesh mesh = toMesh(points, triangles);
   r.droppedComponents = dropDebris(mesh, options.minComponentShare);
   r.holesFilled = fillHoles(mesh);

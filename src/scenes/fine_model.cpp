@@ -61,10 +61,14 @@ DisplaySurface readDisplaySurface(const scene_file::SceneDescription& scene) {
       return display;
     }
   }
-  const mesh::SurfaceRepair repair = mesh::repairSurface(display.surface);
-  display.surface = repair.surface;
-  display.fillable = repair.report.closedAndSelfIntersectionFree();
-  display.report += "; " + mesh::describe(repair.report);
+  try {
+    const mesh::SurfaceRepair repair = mesh::repairSurface(display.surface);
+    display.surface = repair.surface;
+    display.fillable = repair.report.closedAndSelfIntersectionFree();
+    display.report += "; " + mesh::describe(repair.report);
+  } catch (const InvalidInputError& e) {  // the file's surface stays the display surface, embedded in the fallback
+    display.report += std::string("; not repairable: ") + e.what();
+  }
   return display;
 }
 

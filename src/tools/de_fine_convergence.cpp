@@ -4,12 +4,15 @@
 // levels over the display vertices within the stamp radius, and that change as a fraction of the coarse
 // model's error there (acquisition/fine_convergence.hpp). Progress on stderr; exit 1 with a message on bad input.
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "deformation_enrichment/acquisition/fine_convergence.hpp"
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/number_parsing.hpp"
 
 using namespace deformation_enrichment;
 using nlohmann::json;
@@ -21,15 +24,9 @@ std::vector<double> parseLevels(const std::string& text) {
   std::stringstream in(text);
   std::string item;
   while (std::getline(in, item, ',')) {
-    std::size_t used = 0;
-    double factor = 0.0;
-    try {
-      factor = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != item.size() || !(factor >= 1.0)) throw InvalidInputError("--levels: '" + item + "' is not a factor >= 1");
-    levels.push_back(factor);
+    const std::optional<double> factor = parseReal(item);
+    if (!factor || !(*factor >= 1.0 && std::isfinite(*factor))) throw InvalidInputError("--levels: '" + item + "' is not a factor >= 1");
+    levels.push_back(*factor);
   }
   return levels;  // fineConvergence checks the order and the leading 1
 }

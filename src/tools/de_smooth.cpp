@@ -13,6 +13,7 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,7 @@
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/md2_reader.hpp"
+#include "deformation_enrichment/number_parsing.hpp"
 #include "deformation_enrichment/mesh/mesh_io.hpp"
 #include "deformation_enrichment/shape_space/blas_threads.hpp"
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
@@ -42,19 +44,12 @@ struct Inputs {
 std::pair<std::size_t, std::size_t> frameRange(const std::string& text, std::size_t count) {
   if (text.empty()) return {0, count};
   const auto colon = text.find(':');
-  std::size_t a = 0, b = 0, usedA = 0, usedB = 0;
-  try {
-    if (colon == std::string::npos) throw std::invalid_argument("no colon");
-    a = std::stoul(text.substr(0, colon), &usedA);
-    b = std::stoul(text.substr(colon + 1), &usedB);
-  } catch (const std::exception&) {
-    usedA = usedB = 0;
-  }
-  if (colon == std::string::npos || usedA != colon || usedB != text.size() - colon - 1)
-    throw de::InvalidInputError("--frames: '" + text + "' is not A:B (0-based, B exclusive)");
-  if (!(a < b && b <= count))
-    throw de::InvalidInputError("--frames " + text + ": needs A < B <= " + std::to_string(count) + " (the clip's frames)");
-  return {a, b};
+  const std::optional<long> a = colon == std::string::npos ? std::nullopt : de::parseInteger(text.substr(0, colon));
+  const std::optional<long> b = colon == std::string::npos ? std::nullopt : de::parseInteger(text.substr(colon + 1));
+  if (!a || !b) throw de::InvalidInputError("--frames: '" + text + "' is not A:B (0-based, B exclusive)");
+  if (!(*a >= 0 && *a < *b && static_cast<std::size_t>(*b) <= count))
+    throw de::InvalidInputError("--frames " + text + ": needs 0 <= A < B <= " + std::to_string(count) + " (the clip's frames)");
+  return {static_cast<std::size_t>(*a), static_cast<std::size_t>(*b)};
 }
 
 // Mesh files as they are, or the frames of one MD2 animation (assimp-testmodels' faerie.md2, ...).

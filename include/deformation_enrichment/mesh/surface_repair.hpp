@@ -47,7 +47,7 @@ struct SurfaceRepair {
 /// components dropped; every hole filled; self-intersections removed by autorefinement, or where that
 /// fails by CGAL's local remeshing; finally faced outwards. The report says what is left when the surface
 /// could not be made closed and free of self-intersections. Throws InvalidInputError for an empty surface,
-/// non-finite positions or out-of-range indices.
+/// non-finite positions, out-of-range indices, no triangle with area, or triangles that cannot be oriented.
 SurfaceRepair repairSurface(const TriangleMesh& surface, const SurfaceRepairOptions& options = {});
 
 /// Intersecting pairs of triangles (sharing a vertex or an edge is not an intersection). Throws as repairSurface.

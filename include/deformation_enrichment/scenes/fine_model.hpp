@@ -22,7 +22,8 @@ struct DisplaySurface {
 };
 
 /// Reads the scene's surface in metres. A closed manifold surface without duplicate vertices, zero-area
-/// triangles or self-intersections is kept as it is (same vertices, same order); any other is repaired.
+/// triangles or self-intersections is kept as it is (same vertices, same order); any other is repaired,
+/// or, where repair is impossible, kept as it is and marked not fillable.
 /// Throws InvalidInputError / IoError for an unreadable file or a surface with no usable triangle.
 DisplaySurface readDisplaySurface(const scene_file::SceneDescription& scene);
 
