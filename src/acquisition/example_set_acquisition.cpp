@@ -43,8 +43,12 @@ bool sameInteraction(const examples::Example& e, std::size_t line, const ToolPat
 
 }  // namespace
 
-examples::Provenance provenanceOf(const scene_file::SceneDescription& scene) {
+examples::Provenance provenanceOf(const scene_file::SceneDescription& scene, const RecordedCoarse* coarse) {
   examples::Provenance p;
+  if (coarse) {
+    p.fileHashes[fs::path(coarse->path).filename().string()] = fileHash(coarse->path);
+    p.coarseSimulator = coarse->simulator;
+  }
   p.scene = scene;
   std::vector<std::string> files{scene.surface, scene.volume, scene.plan == "auto" ? "" : scene.plan};
   if (fs::path(scene.volume).extension() == ".node") files.push_back(fs::path(scene.volume).replace_extension(".ele").string());
@@ -54,14 +58,17 @@ examples::Provenance provenanceOf(const scene_file::SceneDescription& scene) {
 }
 
 examples::ExampleSet SceneAcquisition::acquireSet(const std::vector<PlanEntry>& plan, const std::string& directory,
-                                                  std::ostream* log, const Shard& shard) {
+                                                  std::ostream* log, const Shard& shard, const RecordedCoarse* coarse) {
   if (shard.count < 1 || shard.index < 1 || shard.index > shard.count)
     throw InvalidInputError("acquireSet: shard " + std::to_string(shard.index) + "/" + std::to_string(shard.count) +
                             " is not I/N with 1 <= I <= N");
   examples::ExampleSet set;
   set.metadata.scene = scene_.name;
-  set.metadata.provenance = provenanceOf(scene_);
-  set.metadata.description = "de_make_examples: coarse vs fine Stable Neo-Hookean solves on scene '" + scene_.name + "'";
+  set.metadata.provenance = provenanceOf(scene_, coarse);
+  set.metadata.description = coarse ? "de_make_examples: " + coarse->simulator + "'s coarse states recorded in " +
+                                          fs::path(coarse->path).filename().string() + " vs fine Stable Neo-Hookean solves on scene '" +
+                                          scene_.name + "'"
+                                    : "de_make_examples: coarse vs fine Stable Neo-Hookean solves on scene '" + scene_.name + "'";
   examples::ExampleSet previous;
   if (fs::exists(fs::path(directory) / examples::kManifestFile)) {
     try {
@@ -70,7 +77,8 @@ examples::ExampleSet SceneAcquisition::acquireSet(const std::vector<PlanEntry>& 
       const bool sameStamps = !previous.examples.empty() && previous.examples.front().stampLayers == scene_.stamp.layers;
       const bool same = sameStamps && previous.metadata.provenance &&
                         scene_file::sceneYaml(previous.metadata.provenance->scene) == scene_file::sceneYaml(scene_) &&
-                        previous.metadata.provenance->fileHashes == set.metadata.provenance->fileHashes;
+                        previous.metadata.provenance->fileHashes == set.metadata.provenance->fileHashes &&
+                        previous.metadata.provenance->coarseSimulator == set.metadata.provenance->coarseSimulator;
       if (!same) previous.examples.clear();
       if (log) *log << (same ? "resuming: " + std::to_string(previous.examples.size()) + " examples already in " + directory
                              : "the set in " + directory + " was made with another scene or settings: starting over")
@@ -85,6 +93,10 @@ examples::ExampleSet SceneAcquisition::acquireSet(const std::vector<PlanEntry>& 
   std::vector<ToolPath> paths;
   for (std::size_t line = 0; line < plan.size(); ++line) {
     if (!shard.holds(line)) continue;
+    if (coarse && !coarse->settled.count(line)) {
+      if (log) *log << "plan line " << line + 1 << ": no settled coarse state in " << coarse->path << ", left out\n";
+      continue;
+    }
     try {
       paths.push_back(toolPath(plan[line]));
     } catch (const InvalidInputError& e) {
@@ -106,7 +118,7 @@ examples::ExampleSet SceneAcquisition::acquireSet(const std::vector<PlanEntry>& 
       if (log) *log << "[" << done << "/" << todo << "] plan line " << line + 1 << " already acquired, kept\n";
       continue;
     }
-    const InteractionResult r = simulate(plan[line]);
+    const InteractionResult r = coarse ? simulate(plan[line], coarse->settled.at(line)) : simulate(plan[line]);
     if (!r.converged && log) *log << "  warning: " << r.message << "\n";
     set.examples.push_back(makeExample(plan[line], r));
     set.examples.back().planLine = static_cast<int>(line);

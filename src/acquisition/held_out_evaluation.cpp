@@ -51,13 +51,16 @@ double meanOver(const std::vector<ContactScore>& contacts, Value value) {
 }  // namespace
 
 std::vector<HeldOutCase> simulateHeldOut(SceneAcquisition& acquisition, const std::vector<PlanEntry>& entries,
-                                         const std::function<void(std::size_t)>& progress) {
+                                         const std::function<void(std::size_t)>& progress, const RecordedCoarse* coarse) {
   std::vector<HeldOutCase> cases;
-  for (std::size_t i = 0; i < entries.size(); ++i)  // every entry checked before the first solve
+  for (std::size_t i = 0; i < entries.size(); ++i) {  // every entry checked before the first solve
     cases.push_back({entries[i], acquisition.contactOf(entries[i]), {}, {}, 0.0, 1});
+    if (coarse && !coarse->settled.count(i))
+      throw InvalidInputError("held-out interaction " + std::to_string(i + 1) + " has no settled coarse state in " + coarse->path);
+  }
   for (std::size_t i = 0; i < entries.size(); ++i) {
     if (progress) progress(i);
-    cases[i].result = acquisition.simulate(entries[i]);
+    cases[i].result = coarse ? acquisition.simulate(entries[i], coarse->settled.at(i)) : acquisition.simulate(entries[i]);
     const examples::Example own = acquisition.makeExample(entries[i], cases[i].result);
     cases[i].ownStamp = own.stamp;
     cases[i].ownStampRadius = own.stampRadius;

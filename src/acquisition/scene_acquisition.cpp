@@ -11,6 +11,7 @@
 #include "deformation_enrichment/enrichment/stamp.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/barycentric_embedding.hpp"
+#include "deformation_enrichment/mesh/embedded_state_fit.hpp"
 #include "deformation_enrichment/mesh/surface_projection.hpp"
 #include "deformation_enrichment/mesh/tet_surface.hpp"
 #include "deformation_enrichment/acquisition/tool_loading.hpp"
@@ -187,12 +188,32 @@ enrichment::Contact SceneAcquisition::contactOf(const PlanEntry& entry) const {
 InteractionResult SceneAcquisition::simulate(const PlanEntry& entry) const {
   const ToolPath path = toolPath(entry);
   InteractionResult r;
-  Eigen::Matrix3Xd coarse, fine;
-  const int indent = scene_.solve.indentSteps, drag = scene_.solve.dragSteps;
-  r.coarseSeconds = solvePath(impl_->coarse, path, scene_, indent, drag, coarse, r.converged, r.message);
-  r.fineSeconds = solvePath(impl_->fine, path, scene_, indent, drag, fine, r.converged, r.message);
+  Eigen::Matrix3Xd coarse;
+  r.coarseSeconds = solvePath(impl_->coarse, path, scene_, scene_.solve.indentSteps, scene_.solve.dragSteps, coarse, r.converged, r.message);
   r.coarseOnFine = coarseOnFineSurface(coarse);
   r.coarseNodes = coarse;
+  solveFine(path, r);
+  return r;
+}
+
+InteractionResult SceneAcquisition::simulate(const PlanEntry& entry, const Eigen::Matrix3Xd& coarseOnSurface) const {
+  const ToolPath path = toolPath(entry);
+  const scenes::SceneModels& m = impl_->models;
+  if (coarseOnSurface.cols() != m.surface.numVertices())
+    throw InvalidInputError("acquisition: a coarse state of " + std::to_string(coarseOnSurface.cols()) + " points for a display surface of " +
+                            std::to_string(m.surface.numVertices()) + " vertices");
+  if (!coarseOnSurface.allFinite()) throw InvalidInputError("acquisition: the given coarse state is not finite");
+  InteractionResult r;
+  r.coarseOnFine = coarseOnSurface;
+  const mesh::TetMesh& rest = m.coarse.mesh;
+  r.coarseNodes = rest.vertices + mesh::fitNodeDisplacements(rest, impl_->embedding, coarseOnSurface - m.surface.vertices, m.coarse.fixedVertices);
+  solveFine(path, r);
+  return r;
+}
+
+void SceneAcquisition::solveFine(const ToolPath& path, InteractionResult& r) const {
+  Eigen::Matrix3Xd fine;
+  r.fineSeconds = solvePath(impl_->fine, path, scene_, scene_.solve.indentSteps, scene_.solve.dragSteps, fine, r.converged, r.message);
   r.fineNodes = fine;
   const scenes::SceneModels& m = impl_->models;
   if (m.surfaceOnFine) {
@@ -201,7 +222,6 @@ InteractionResult SceneAcquisition::simulate(const PlanEntry& entry) const {
     r.fine.resize(3, m.surface.numVertices());
     for (Eigen::Index v = 0; v < r.fine.cols(); ++v) r.fine.col(v) = fine.col(m.surfaceToFine[static_cast<std::size_t>(v)]);
   }
-  return r;
 }
 
 cv::Mat SceneAcquisition::volumeStamp(const InteractionResult& result, const Eigen::Vector3d& p, const Eigen::Matrix3d& B,

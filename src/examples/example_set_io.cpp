@@ -130,6 +130,13 @@ bool sameLayout(const hermite::MomentList& a, const hermite::MomentList& b) {
   return a.firstOrder() == b.firstOrder() && a.lastOrder() == b.lastOrder() && a.channels() == b.channels();
 }
 
+// coarse_simulator only when another simulator made the coarse half, so the package's own sets read as before.
+json provenanceJson(const Provenance& p) {
+  json out{{"scene", scene_file::sceneYaml(p.scene)}, {"file_hashes", p.fileHashes}};
+  if (!p.coarseSimulator.empty()) out["coarse_simulator"] = p.coarseSimulator;
+  return out;
+}
+
 }  // namespace
 
 std::uint64_t fnv1a64(const void* data, std::size_t size) {
@@ -191,9 +198,7 @@ void saveExampleSet(const ExampleSet& set, const std::string& directory) {
       {"scene", set.metadata.scene},
       {"material", material},
       {"description", set.metadata.description},
-      {"provenance", set.metadata.provenance ? json{{"scene", scene_file::sceneYaml(set.metadata.provenance->scene)},
-                                                     {"file_hashes", set.metadata.provenance->fileHashes}}
-                                             : json(nullptr)},
+      {"provenance", set.metadata.provenance ? provenanceJson(*set.metadata.provenance) : json(nullptr)},
       {"stamp_blob", {{"file", kStampBlobFile},
                       {"dtype", "float32_le"},
                       {"layout", "rows x cols x 3, row-major, examples in manifest order"},
@@ -241,6 +246,7 @@ void readHeader(const ManifestReader& r, const json& manifest, ExampleSetMetadat
   const json& hashes = r.field(*provenance, "file_hashes", "manifest.provenance");
   if (!hashes.is_object()) r.fail("field manifest.provenance.file_hashes is not an object");
   for (const auto& item : hashes.items()) p.fileHashes[item.key()] = r.string(hashes, item.key(), "manifest.provenance.file_hashes");
+  if (provenance->contains("coarse_simulator")) p.coarseSimulator = r.string(*provenance, "coarse_simulator", "manifest.provenance");
   metadata.provenance = std::move(p);
 }
 

@@ -29,9 +29,11 @@ struct HeldOutCase {
 };
 
 /// Coarse and fine solves of every entry (all entries are checked first) and their own stamps;
-/// `progress(i)` (optional) is called before entry i.
+/// `progress(i)` (optional) is called before entry i. With `coarse` (entries = its plan), the coarse half
+/// of entry i is its recorded settled state; an entry without one is refused before any solve.
 std::vector<HeldOutCase> simulateHeldOut(SceneAcquisition& acquisition, const std::vector<PlanEntry>& entries,
-                                         const std::function<void(std::size_t)>& progress = {});
+                                         const std::function<void(std::size_t)>& progress = {},
+                                         const RecordedCoarse* coarse = nullptr);
 
 struct ContactScore {
   long vertices = 0;  ///< fine surface vertices within the stamp radius

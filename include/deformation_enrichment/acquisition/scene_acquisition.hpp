@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "deformation_enrichment/acquisition/plan_io.hpp"
+#include "deformation_enrichment/acquisition/recorded_coarse.hpp"
 #include "deformation_enrichment/enrichment/contact_enricher.hpp"
 #include "deformation_enrichment/examples/example.hpp"
 #include "deformation_enrichment/mesh/triangle_mesh.hpp"
@@ -51,8 +52,9 @@ struct Shard {
 /// stamp radius from the scene file; orders rho 0..3, mu 1..2 [Seiler14 Table 1]).
 enrichment::ContactEnricherOptions enricherOptions(const scene_file::SceneDescription& scene);
 
-/// The provenance a set acquired on `scene` records (the scene with its files reduced to names and hashes).
-examples::Provenance provenanceOf(const scene_file::SceneDescription& scene);
+/// The provenance a set acquired on `scene` records (the scene with its files reduced to names and hashes;
+/// with `coarse`, also its recording's hash and simulator).
+examples::Provenance provenanceOf(const scene_file::SceneDescription& scene, const RecordedCoarse* coarse = nullptr);
 
 /// Where the default example set of a scene is cached: $DE_EXAMPLE_CACHE/<scene> when that variable is set,
 /// else $XDG_CACHE_HOME (or ~/.cache)/deformation_enrichment/example_sets/<scene>.
@@ -79,6 +81,11 @@ public:
 
   /// Coarse and fine solves of one interaction.
   InteractionResult simulate(const PlanEntry& entry) const;
+  /// The fine solve of one interaction whose coarse half comes from another simulator: `coarseOnSurface`, the
+  /// display-surface state it settled in (docs/coarse_simulator.md). The coarse volume nodes (for volume
+  /// stamps) are fitted to it through the embedding (mesh/embedded_state_fit.hpp). Throws InvalidInputError
+  /// for a state of another size than the display surface or a non-finite one.
+  InteractionResult simulate(const PlanEntry& entry, const Eigen::Matrix3Xd& coarseOnSurface) const;
 
   /// The coarse quasi-static path of an interaction on the display surface: the rest state, then the state
   /// after each of `indentSteps` indentation and `dragSteps` drag steps (none without a drag). Solver
@@ -95,10 +102,15 @@ public:
   /// Acquires the plan lines of `shard` into the set at `directory`, rewriting it after each example so that
   /// an interrupted run resumes: examples already there with the same plan line, contact, pattern and
   /// provenance are kept, not recomputed. Progress lines (seconds, peak memory) go to `log` when given.
+  /// With `coarse`, the plan is the recording's and each line's coarse half is its settled state; lines
+  /// the recording has no state of (skipped by the driver) are left out and named in the log.
   examples::ExampleSet acquireSet(const std::vector<PlanEntry>& plan, const std::string& directory,
-                                  std::ostream* log = nullptr, const Shard& shard = {});
+                                  std::ostream* log = nullptr, const Shard& shard = {},
+                                  const RecordedCoarse* coarse = nullptr);
 
 private:
+  /// The fine half of `r`: fine, fineNodes, fineSeconds (and converged, message when it is not).
+  void solveFine(const ToolPath& path, InteractionResult& r) const;
   Eigen::Matrix3Xd coarseOnFineSurface(const Eigen::Matrix3Xd& coarse) const;
   /// The volume stamp of an interaction: B^T R^T (fine - coarse) at the stamp's nodes (`toFrame` = B^T R^T).
   cv::Mat volumeStamp(const InteractionResult& result, const Eigen::Vector3d& p, const Eigen::Matrix3d& B,

@@ -42,6 +42,7 @@ struct Example {
 struct Provenance {
   scene_file::SceneDescription scene;
   std::map<std::string, std::string> fileHashes;  ///< file name -> 16 hex digits
+  std::string coarseSimulator;  ///< the simulator the coarse states were recorded from; empty: the package's own
 };
 
 /// Set-wide metadata written to the manifest.
