@@ -1,7 +1,7 @@
 # The ROS 1 layer: messages, services, nodes, nodelets and rostests, on top of the core (cmake/core.cmake).
 
 set(DE_CATKIN_COMPONENTS
-  roscpp message_generation std_msgs geometry_msgs sensor_msgs visualization_msgs shape_msgs pcl_msgs
+  roscpp message_generation std_msgs std_srvs geometry_msgs sensor_msgs visualization_msgs shape_msgs pcl_msgs
   diagnostic_msgs diagnostic_updater tf2 tf2_ros tf2_eigen tf2_geometry_msgs pcl_conversions urdf nodelet pluginlib rosbag dynamic_reconfigure)
 find_package(catkin REQUIRED COMPONENTS ${DE_CATKIN_COMPONENTS})
 
@@ -16,7 +16,8 @@ catkin_package(
   INCLUDE_DIRS include
   LIBRARIES deformation_enrichment_geometry deformation_enrichment_descriptors deformation_enrichment_runtime
             deformation_enrichment_simulation deformation_enrichment_shape_space deformation_enrichment_ros
-  CATKIN_DEPENDS roscpp message_runtime std_msgs geometry_msgs sensor_msgs visualization_msgs shape_msgs
+            deformation_enrichment_coarse_bag
+  CATKIN_DEPENDS roscpp message_runtime std_msgs std_srvs geometry_msgs sensor_msgs visualization_msgs shape_msgs
                  pcl_msgs diagnostic_msgs diagnostic_updater tf2 tf2_ros tf2_eigen tf2_geometry_msgs
                  pcl_conversions urdf nodelet pluginlib dynamic_reconfigure)
 
@@ -43,7 +44,8 @@ target_link_libraries(deformation_enrichment_nodelets deformation_enrichment_ros
 # Nodes (src/ros/<name>_node.cpp becomes <name>_node) and ROS command-line tools (src/ros/de_<name>.cpp
 # becomes de_<name>): the ROS library plus the core layers each one includes (the demo scene the simulator,
 # the shape-space server and de_smooth_bag the shape space).
-file(GLOB DE_NODE_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/ros/*_node.cpp ${PROJECT_SOURCE_DIR}/src/ros/de_*.cpp)
+file(GLOB DE_NODE_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/ros/*_node.cpp ${PROJECT_SOURCE_DIR}/src/ros/de_*.cpp
+  ${PROJECT_SOURCE_DIR}/src/ros/acquisition_driver.cpp)
 set(DE_NODE_TARGETS "")
 foreach(node_source ${DE_NODE_SOURCES})
   get_filename_component(node ${node_source} NAME_WE)
@@ -54,7 +56,20 @@ foreach(node_source ${DE_NODE_SOURCES})
   list(APPEND DE_NODE_TARGETS ${node})
 endforeach()
 
-install(TARGETS ${DE_CORE_LIBRARIES} deformation_enrichment_ros deformation_enrichment_nodelets
+# Recordings of a coarse simulator (docs/coarse_simulator.md): acquisition_driver writes them, de_make_examples and
+# de_evaluate --coarse-bag read them (the option exists in the catkin build only). A library of its own: it links the
+# simulation layer, which the ROS layer library and the enrichment node never load.
+add_library(deformation_enrichment_coarse_bag SHARED src/ros/coarse_bag/coarse_bag.cpp)
+target_compile_options(deformation_enrichment_coarse_bag PRIVATE ${DE_WARNINGS})
+target_link_libraries(deformation_enrichment_coarse_bag deformation_enrichment_ros deformation_enrichment_simulation)
+de_no_undefined(deformation_enrichment_coarse_bag)
+target_link_libraries(acquisition_driver deformation_enrichment_coarse_bag)
+foreach(tool de_make_examples de_evaluate)
+  target_link_libraries(${tool} deformation_enrichment_coarse_bag)
+  target_compile_definitions(${tool} PRIVATE DE_COARSE_BAG=1)
+endforeach()
+
+install(TARGETS ${DE_CORE_LIBRARIES} deformation_enrichment_ros deformation_enrichment_nodelets deformation_enrichment_coarse_bag
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_GLOBAL_BIN_DESTINATION})
@@ -125,6 +140,12 @@ if(CATKIN_ENABLE_TESTING)
     DEPENDS enrichment_node)
   set_tests_properties(_ctest_${PROJECT_NAME}_rostest_test_ros_open_surface.test PROPERTIES
     FIXTURES_REQUIRED slab_set ENVIRONMENT DE_TEST_SLAB_SET=${DE_TEST_SLAB_SET})
+  # Recordings of a coarse simulator, written and read without a master.
+  add_executable(test_coarse_bag test/ros/test_coarse_bag.cpp)
+  target_compile_options(test_coarse_bag PRIVATE ${DE_WARNINGS})
+  target_link_libraries(test_coarse_bag deformation_enrichment_coarse_bag GTest::gtest)
+  add_test(NAME test_coarse_bag COMMAND test_coarse_bag
+    --gtest_output=xml:${CMAKE_BINARY_DIR}/test_results/${PROJECT_NAME}/gtest-test_coarse_bag.xml)
   de_rostest_gtest(test_shape_space_server test/ros/shape_space_server.test SOURCES test/ros/test_shape_space_server.cpp
     test/unit/shape_space/real_sequences.hpp
     DEPENDS ${DE_NODE_TARGETS})

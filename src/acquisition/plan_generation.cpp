@@ -67,6 +67,17 @@ std::vector<int> farthestPointSites(const Eigen::Matrix3Xd& vertices, const std:
 
 }  // namespace
 
+std::vector<PlanEntry> scenePlan(SceneAcquisition& acquisition, std::optional<int> examples) {
+  const std::string& csv = acquisition.scene().plan;
+  if (csv == "auto") return autoPlan(acquisition, examples.value_or(kDefaultAutoPlanSize));
+  std::vector<PlanEntry> plan = readPlan(csv);
+  if (examples && *examples > static_cast<int>(plan.size()))
+    throw InvalidInputError("--examples " + std::to_string(*examples) + ": the plan " + csv + " has only " +
+                            std::to_string(plan.size()) + " interactions");
+  if (examples) plan.resize(static_cast<std::size_t>(*examples));
+  return plan;
+}
+
 std::vector<PlanEntry> autoPlan(SceneAcquisition& acquisition, int examples) {
   if (examples < 1) throw InvalidInputError("autoPlan: needs at least one example, got " + std::to_string(examples));
   const std::vector<int> candidates = touchableSurfaceVertices(acquisition);

@@ -54,13 +54,17 @@ std::vector<PlanEntry> readPlan(std::istream& in, const std::string& name) {
   return plan;
 }
 
-void writePlan(const std::string& path, const std::vector<PlanEntry>& plan) {
-  std::ofstream out(path);
-  if (!out) throw IoError(path + ": cannot write plan");
-  out << "# x,y,z,depth,dx,dy,dz (m)\n" << std::setprecision(9);
+void writePlan(std::ostream& out, const std::vector<PlanEntry>& plan) {
+  out << "# x,y,z,depth,dx,dy,dz (m)\n" << std::setprecision(17);  // round-trips every double
   for (const PlanEntry& e : plan)
     out << e.point.x() << ',' << e.point.y() << ',' << e.point.z() << ',' << e.depth << ',' << e.drag.x() << ','
         << e.drag.y() << ',' << e.drag.z() << '\n';
+}
+
+void writePlan(const std::string& path, const std::vector<PlanEntry>& plan) {
+  std::ofstream out(path);
+  if (!out) throw IoError(path + ": cannot write plan");
+  writePlan(out, plan);
   if (!out) throw IoError(path + ": failed while writing");
 }
 

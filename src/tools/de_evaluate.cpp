@@ -21,6 +21,9 @@
 #include "deformation_enrichment/enrichment/surface_enricher.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/examples/example_set_io.hpp"
+#ifdef DE_COARSE_BAG
+#include "deformation_enrichment/ros/coarse_bag.hpp"
+#endif
 
 using namespace deformation_enrichment;
 using nlohmann::json;
@@ -28,7 +31,7 @@ using nlohmann::json;
 namespace {
 
 struct Settings {
-  std::string scene = "slab", set, contacts, learningCurve, densitySource = "auto", blend = "regression";
+  std::string scene = "slab", set, contacts, learningCurve, densitySource = "auto", blend = "regression", coarseBag;
   bool noFit = false, correlationOnly = false, curves = false, noGain = false, open = false;
   const enrichment::ContactEnricherOptions defaults;
   double gain = 1.0, rimBand = defaults.rimBand, sigmaRho = 0.0, sigmaU = 0.0, shellThickness = 0.0;
@@ -42,6 +45,11 @@ void addOptions(CLI::App& app, Settings& s) {
   app.add_option("--examples", s.set, "example set directory (any scene's: transfer), or 'default' (the scene's "
                                       "default set, acquired on first use)")->required();
   app.add_option("--contacts", s.contacts, "CSV x,y,z,depth,dx,dy,dz per held-out interaction (default: random)");
+#ifdef DE_COARSE_BAG
+  app.add_option("--coarse-bag", s.coarseBag, "held-out interactions recorded from another coarse simulator (acquisition_driver): "
+                 "its plan's complete interactions, its settled states as the coarse half")
+      ->check(CLI::ExistingFile);
+#endif
   app.add_option("--held-out", s.heldOut, "random held-out interactions without --contacts")->check(CLI::PositiveNumber);
   app.add_option("--seed", s.seed, "seed of the random held-out interactions");
   app.add_option("--learning-curve", s.learningCurve,
@@ -148,9 +156,7 @@ examples::ExampleSet loadOrAcquireSet(Evaluation& ev) {
     path = acquisition::defaultExampleSetDirectory(ev.scene.name);
     if (!std::filesystem::exists(std::filesystem::path(path) / examples::kManifestFile)) {
       std::cerr << "acquiring the default " << ev.scene.name << " example set into " << path << " (once)\n";
-      const auto plan = ev.scene.plan == "auto" ? acquisition::autoPlan(*ev.acquisition, acquisition::kDefaultAutoPlanSize)
-                                                : acquisition::readPlan(ev.scene.plan);
-      ev.acquisition->acquireSet(plan, path, &std::cerr);
+      ev.acquisition->acquireSet(acquisition::scenePlan(*ev.acquisition), path, &std::cerr);
     }
   }
   return examples::loadExampleSet(path);
@@ -293,17 +299,44 @@ void variantCurves(Evaluation& ev, const std::vector<acquisition::HeldOutCase>& 
   out["hermite_order_curve"] = byOrder;
 }
 
+// --coarse-bag: the recording's complete interactions, numbered 0.. in plan order (a line the driver skipped
+// has no state and is left out, named).
+std::optional<acquisition::RecordedCoarse> recordedHeldOut(const Evaluation& ev) {
+#ifdef DE_COARSE_BAG
+  if (ev.settings.coarseBag.empty()) return std::nullopt;
+  if (!ev.settings.contacts.empty()) throw InvalidInputError("--coarse-bag and --contacts both give the held-out interactions");
+  const acquisition::RecordedCoarse all = ros_layer::readCoarseBag(ev.settings.coarseBag, ev.acquisition->fineSurface().numVertices());
+  acquisition::RecordedCoarse held{all.path, all.simulator, {}, {}};
+  for (std::size_t line = 0; line < all.plan.size(); ++line) {
+    const auto state = all.settled.find(line);
+    if (state == all.settled.end()) {
+      std::cerr << "plan line " << line + 1 << " of " << all.path << " has no settled state: left out\n";
+      continue;
+    }
+    held.settled[held.plan.size()] = state->second;
+    held.plan.push_back(all.plan[line]);
+  }
+  std::cerr << "held-out interactions: " << held.plan.size() << " recorded from " << all.simulator << " in " << all.path << "\n";
+  return held;
+#else
+  (void)ev;
+  return std::nullopt;  // a build without ROS has no --coarse-bag
+#endif
+}
+
 json evaluate(Evaluation& ev) {
   prepare(ev);
   const Settings& s = ev.settings;
   const std::vector<std::size_t> sizes = s.learningCurve.empty() ? std::vector<std::size_t>()
                                                                  : parseSizes(s.learningCurve, ev.set.examples.size());
-  const auto contacts = s.contacts.empty() ? acquisition::randomContacts(*ev.acquisition, s.heldOut, s.seed)
-                                           : acquisition::readPlan(s.contacts);
-  if (s.contacts.empty()) std::cerr << "held-out contacts: " << s.heldOut << " random, seed " << s.seed << "\n";
+  const std::optional<acquisition::RecordedCoarse> recorded = recordedHeldOut(ev);
+  const auto contacts = recorded          ? recorded->plan
+                        : s.contacts.empty() ? acquisition::randomContacts(*ev.acquisition, s.heldOut, s.seed)
+                                             : acquisition::readPlan(s.contacts);
+  if (!recorded && s.contacts.empty()) std::cerr << "held-out contacts: " << s.heldOut << " random, seed " << s.seed << "\n";
   const std::vector<acquisition::HeldOutCase> cases = acquisition::simulateHeldOut(*ev.acquisition, contacts, [&](std::size_t i) {
-    std::cerr << "[" << i + 1 << "/" << contacts.size() << "] simulating coarse and fine...\n";
-  });
+    std::cerr << "[" << i + 1 << "/" << contacts.size() << "] simulating " << (recorded ? "fine" : "coarse and fine") << "...\n";
+  }, recorded ? &*recorded : nullptr);
   const acquisition::HeldOutScore score = acquisition::scoreHeldOut(*ev.enricher, cases, s.repetitions, acquisition::Bounds::Compute);
   json out = report(ev, contacts, score, perContact(cases, score));
   if (!sizes.empty()) out["learning_curve"] = learningCurve(ev, cases, sizes);

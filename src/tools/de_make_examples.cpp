@@ -11,6 +11,9 @@
 #include "deformation_enrichment/acquisition/plan_generation.hpp"
 #include "deformation_enrichment/acquisition/scene_acquisition.hpp"
 #include "deformation_enrichment/error.hpp"
+#ifdef DE_COARSE_BAG
+#include "deformation_enrichment/ros/coarse_bag.hpp"
+#endif
 
 using namespace deformation_enrichment;
 
@@ -39,6 +42,12 @@ int main(int argc, char** argv) {
                  "the first N interactions of the plan: of --plan when given, else of the scene's nested automatic plan "
                  "(default: the scene's plan; an automatic one has 12)")
       ->check(CLI::PositiveNumber);
+  std::string coarseBag;
+#ifdef DE_COARSE_BAG
+  app.add_option("--coarse-bag", coarseBag, "recording of another coarse simulator (acquisition_driver, docs/coarse_simulator.md): "
+                 "its plan, and its settled states as the coarse half")
+      ->check(CLI::ExistingFile);
+#endif
   app.add_option("--shard", shardText, "acquire every N-th plan line starting at line I (I/N, 1-based)");
   // Overrides of the scene file, for experiments; recorded in the set's provenance like the file's values.
   std::optional<int> resolution, layers;
@@ -79,14 +88,18 @@ int main(int argc, char** argv) {
     if (outside > 0)
       std::cerr << outside << " display vertices lie outside the coarse volume (up to " << farthest * 1e3
                 << " mm): their coarse motion is extrapolated from the nearest tet\n";
-    std::vector<acquisition::PlanEntry> plan =
-        scene.plan == "auto" ? acquisition::autoPlan(acq, examples.value_or(acquisition::kDefaultAutoPlanSize)) : acquisition::readPlan(scene.plan);
-    if (examples && *examples > static_cast<int>(plan.size()))
-      throw InvalidInputError("--examples " + std::to_string(*examples) + ": the plan " + scene.plan + " has only " +
-                              std::to_string(plan.size()) + " interactions");
-    if (examples) plan.resize(static_cast<std::size_t>(*examples));
+    std::optional<acquisition::RecordedCoarse> recorded;
+#ifdef DE_COARSE_BAG
+    if (!coarseBag.empty()) {
+      if (!planPath.empty() || examples) throw InvalidInputError("--coarse-bag brings its plan: no --plan or --examples with it");
+      recorded = ros_layer::readCoarseBag(coarseBag, acq.fineSurface().numVertices());
+      std::cerr << "coarse half: " << recorded->settled.size() << " of " << recorded->plan.size() << " interactions recorded from "
+                << recorded->simulator << " in " << coarseBag << "\n";
+    }
+#endif
+    const std::vector<acquisition::PlanEntry> plan = recorded ? recorded->plan : acquisition::scenePlan(acq, examples);
     if (output == "default") output = acquisition::defaultExampleSetDirectory(scene.name);
-    const examples::ExampleSet set = acq.acquireSet(plan, output, &std::cerr, shard);
+    const examples::ExampleSet set = acq.acquireSet(plan, output, &std::cerr, shard, recorded ? &*recorded : nullptr);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::cerr << "wrote " << set.examples.size() << " examples (shard " << shard.index << "/" << shard.count << " of a "
               << plan.size() << "-line plan) to " << output << " in " << seconds << " s\n";

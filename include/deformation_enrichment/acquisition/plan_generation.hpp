@@ -13,6 +13,8 @@
 // scale with the tool radius r, so a small tool on a small object stays gentle.
 #include <vector>
 
+#include <optional>
+
 #include "deformation_enrichment/acquisition/plan_io.hpp"
 #include "deformation_enrichment/acquisition/scene_acquisition.hpp"
 
@@ -24,6 +26,11 @@ constexpr int kDefaultAutoPlanSize = 12;
 /// The first `examples` interactions (>= 1) of the scene's nested plan. Deterministic. Throws
 /// InvalidInputError when the surface has fewer touchable vertices than interactions.
 std::vector<PlanEntry> autoPlan(SceneAcquisition& acquisition, int examples);
+
+/// The plan a scene is acquired with: its automatic plan (scene plan "auto": the first `examples`, default
+/// kDefaultAutoPlanSize) or its CSV (the first `examples` lines when given). Throws InvalidInputError when
+/// `examples` exceeds the CSV's lines, IoError for an unreadable CSV.
+std::vector<PlanEntry> scenePlan(SceneAcquisition& acquisition, std::optional<int> examples = std::nullopt);
 
 /// `count` held-out interactions drawn with std::mt19937(seed): a point uniform over the touchable surface
 /// area, depth uniform in [0.4 r, 0.8 r], and for every other contact a tangential drag of length uniform

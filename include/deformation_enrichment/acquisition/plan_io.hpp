@@ -22,6 +22,8 @@ std::vector<PlanEntry> readPlan(const std::string& path);
 /// The same from a stream; `name` stands for the file in error messages.
 std::vector<PlanEntry> readPlan(std::istream& in, const std::string& name);
 
+/// Writes the CSV with every value round-tripping exactly; the path version throws IoError naming the file.
+void writePlan(std::ostream& out, const std::vector<PlanEntry>& plan);
 void writePlan(const std::string& path, const std::vector<PlanEntry>& plan);
 
 }  // namespace deformation_enrichment::acquisition

@@ -1,0 +1,247 @@
+// acquisition_driver: drives the user's own coarse simulator through a scene's acquisition plan over ROS and
+// records the states it settles in (docs/coarse_simulator.md), so that examples are made against the coarse
+// model that runs live [Seiler14 §3]. For each plan interaction it resets the simulator (`reset`,
+// std_srvs/Empty; without one it lifts the tool and waits for the tissue to settle), commands the tool
+// sphere's centre on `servo_cp` along the same indent-then-drag path, in the same steps, as the package's
+// fine solve, waits at each step until `mesh_state` settles, and appends the whole interaction to ~bag.
+// Rerun with the same ~bag, it resumes after the last complete interaction.
+#include <ros/ros.h>
+#include <std_srvs/Empty.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "deformation_enrichment/acquisition/plan_generation.hpp"
+#include "deformation_enrichment/acquisition/scene_acquisition.hpp"
+#include "deformation_enrichment/acquisition/tool_loading.hpp"
+#include "deformation_enrichment/ros/coarse_bag.hpp"
+#include "deformation_enrichment/ros/conversions.hpp"
+
+namespace de = deformation_enrichment;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+struct DriverSettings {
+  std::string bag, frame, simulator;
+  double settleTolerance = 1e-6, settleTimeout = 10.0;
+  int settleStates = 3;
+  bool stopOnTimeout = false;
+};
+
+// Stops the run: the message is the reason, the bag keeps every complete interaction.
+struct Stop : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+class Driver {
+public:
+  Driver(ros::NodeHandle& nh, DriverSettings settings, const de::acquisition::SceneAcquisition& scene)
+      : settings_(std::move(settings)), scene_(scene), vertices_(scene.fineSurface().numVertices()) {
+    commands_ = nh.advertise<geometry_msgs::PoseStamped>("servo_cp", 10);
+    states_ = nh.subscribe("mesh_state", 10, &Driver::onState, this);
+    reset_ = nh.serviceClient<std_srvs::Empty>("reset");
+  }
+
+  // Acquires every plan line not yet in the bag. Throws Stop.
+  void run(const std::vector<de::acquisition::PlanEntry>& plan) {
+    awaitFirstState();
+    if (!fault_.empty()) throw Stop(fault_);
+    if (settings_.simulator.empty()) settings_.simulator = publisher_;
+    if (settings_.frame.empty()) settings_.frame = frame_;
+    de::ros_layer::CoarseBagWriter bag(settings_.bag, plan, settings_.simulator);
+    const std::size_t todo = plan.size() - bag.completed().size();
+    ROS_INFO("acquisition driver: %zu of %zu interactions to record from %s into %s (%zu already there)", todo, plan.size(),
+             settings_.simulator.c_str(), settings_.bag.c_str(), bag.completed().size());
+    std::size_t done = 0;
+    for (std::size_t line = 0; line < plan.size() && ros::ok(); ++line) {
+      if (bag.completed().count(line)) continue;
+      const auto start = Clock::now();
+      overhead_ = 0.0;
+      std::vector<de::ros_layer::SettledStep> steps;
+      const std::string refused = interaction(line, plan[line], steps);
+      ++done;
+      if (!refused.empty()) {
+        ROS_ERROR("acquisition driver: interaction %zu of %zu (plan line %zu) refused: %s", done, todo, line + 1, refused.c_str());
+        continue;
+      }
+      const auto writeStart = Clock::now();
+      bag.write(line, steps);
+      overhead_ += seconds(writeStart);
+      const double total = seconds(start);
+      ROS_INFO("acquisition driver: interaction %zu of %zu (plan line %zu): %zu steps in %.2f s, %.0f ms per step, driver %.2f ms per step",
+               done, todo, line + 1, steps.size(), total, 1e3 * total / steps.size(), 1e3 * overhead_ / steps.size());
+    }
+  }
+
+private:
+  static double seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
+
+  void onState(const ros::MessageEvent<const sensor_msgs::PointCloud2>& event) {
+    const auto start = Clock::now();
+    const sensor_msgs::PointCloud2& cloud = *event.getConstMessage();
+    // A callback must not throw through roscpp: the waiting loops stop on fault_.
+    Eigen::Matrix3Xf positions;
+    try {
+      positions = de::ros_layer::positionsFromCloud(cloud);
+    } catch (const std::exception& e) {
+      fault_ = std::string("a mesh_state that cannot be read: ") + e.what();
+      return;
+    }
+    if (positions.cols() != vertices_) {
+      fault_ = "the simulator's mesh_state has " + std::to_string(positions.cols()) + " points, the scene's display surface " +
+               std::to_string(vertices_) + " vertices";
+      return;
+    }
+    nonFinite_ = nonFinite_ || !positions.allFinite();
+    motion_ = previous_.cols() == positions.cols() ? (positions - previous_).colwise().norm().maxCoeff()
+                                                   : std::numeric_limits<float>::infinity();
+    quiet_ = motion_ < settings_.settleTolerance ? quiet_ + 1 : 0;
+    previous_ = positions;
+    latest_ = cloud;
+    ++received_;
+    if (publisher_.empty()) publisher_ = event.getPublisherName(), frame_ = cloud.header.frame_id;
+    overhead_ += seconds(start);
+  }
+
+  void awaitFirstState() {
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(30.0);
+    while (ros::ok() && received_ == 0) {
+      if (!fault_.empty()) throw Stop(fault_);
+      if (ros::WallTime::now() > deadline) throw Stop("no mesh_state from the simulator in 30 s (is it running, and remapped?)");
+      ros::spinOnce();
+      ros::WallDuration(0.001).sleep();
+    }
+  }
+
+  geometry_msgs::PoseStamped command(const Eigen::Vector3d& centre) const {
+    geometry_msgs::PoseStamped pose;
+    pose.header.stamp = ros::Time::now();
+    pose.header.frame_id = settings_.frame;
+    pose.pose.position.x = centre.x();
+    pose.pose.position.y = centre.y();
+    pose.pose.position.z = centre.z();
+    pose.pose.orientation.w = 1.0;
+    return pose;
+  }
+
+  // Publishes `pose` and waits until ~settle_states consecutive states each moved less than the tolerance.
+  // Returns an empty string, or why the step failed.
+  std::string settle(const geometry_msgs::PoseStamped& pose, de::ros_layer::SettledStep* step) {
+    commands_.publish(pose);
+    const std::uint64_t first = received_;
+    quiet_ = 0;
+    nonFinite_ = false;
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(settings_.settleTimeout);
+    // One state more than the quiet count: the first state after the command may predate it.
+    while (ros::ok() && (quiet_ < settings_.settleStates || received_ < first + settings_.settleStates + 1)) {
+      if (!fault_.empty()) throw Stop(fault_);
+      if (nonFinite_) return "a non-finite state";
+      if (ros::WallTime::now() > deadline)
+        return "no settle in " + std::to_string(settings_.settleTimeout) + " s (last motion " + std::to_string(motion_) + " m)";
+      ros::spinOnce();
+      ros::WallDuration(0.0005).sleep();
+    }
+    if (!ros::ok()) throw Stop("shut down");
+    if (step) *step = {pose, latest_};
+    return {};
+  }
+
+  // Rest before an interaction: the simulator's reset (retried once), or the tool lifted clear and the
+  // tissue left to settle.
+  void reset(const Eigen::Vector3d& clear) {
+    if (!reset_.exists()) {
+      if (!warnedNoReset_) ROS_WARN("acquisition driver: no reset service: lifting the tool and waiting for the tissue to settle");
+      warnedNoReset_ = true;
+      const std::string problem = settle(command(clear), nullptr);
+      if (!problem.empty()) throw Stop("lifting the tool to rest the tissue: " + problem);
+      return;
+    }
+    std_srvs::Empty call;
+    if (!reset_.call(call) && !reset_.call(call)) throw Stop("the simulator's reset failed twice");
+  }
+
+  // Records one plan line into `steps`; returns why it was refused (empty when it was not).
+  std::string interaction(std::size_t line, const de::acquisition::PlanEntry& entry, std::vector<de::ros_layer::SettledStep>& steps) {
+    const de::acquisition::ToolPath path = scene_.toolPath(entry);
+    const de::scene_file::SceneDescription& d = scene_.scene();
+    const Eigen::Vector3d touching = path.contact - d.tool.radius * path.inward;  // the centre one radius outside
+    reset(touching - std::max(d.tool.radius, 2.0 * path.depth) * path.inward);
+    const double drag = path.drag.norm();
+    const int indentSteps = d.solve.indentSteps, dragSteps = drag > 0.0 ? d.solve.dragSteps : 0;
+    const Eigen::Vector3d dragDirection = drag > 0.0 ? Eigen::Vector3d(path.drag / drag) : Eigen::Vector3d::UnitX();
+    steps.resize(static_cast<std::size_t>(indentSteps + dragSteps + 1));
+    for (int step = 0; step <= indentSteps + dragSteps; ++step) {
+      const Eigen::Vector3d u =
+          de::acquisition::toolDisplacement(step, indentSteps, dragSteps, path.inward, path.depth, dragDirection, drag);
+      const std::string problem = settle(command(touching + u), &steps[static_cast<std::size_t>(step)]);
+      if (problem.empty()) continue;
+      const std::string where = "step " + std::to_string(step) + " of " + std::to_string(indentSteps + dragSteps) + ": " + problem;
+      if (problem.rfind("no settle", 0) == 0 && settings_.stopOnTimeout)
+        throw Stop("plan line " + std::to_string(line + 1) + ", " + where);
+      return where;
+    }
+    return {};
+  }
+
+  DriverSettings settings_;
+  const de::acquisition::SceneAcquisition& scene_;
+  const long vertices_;
+  ros::Publisher commands_;
+  ros::Subscriber states_;
+  ros::ServiceClient reset_;
+  sensor_msgs::PointCloud2 latest_;
+  Eigen::Matrix3Xf previous_;
+  std::uint64_t received_ = 0;
+  int quiet_ = 0;
+  float motion_ = std::numeric_limits<float>::infinity();
+  bool nonFinite_ = false, warnedNoReset_ = false;
+  std::string publisher_, frame_, fault_;
+  double overhead_ = 0.0;
+};
+
+// ~settle_*, ~on_timeout, ~bag, ~frame_id, ~simulator_name; throws Stop naming a bad value.
+DriverSettings readSettings(ros::NodeHandle& pnh) {
+  DriverSettings s;
+  s.bag = pnh.param<std::string>("bag", "");
+  s.frame = pnh.param<std::string>("frame_id", "");
+  s.simulator = pnh.param<std::string>("simulator_name", "");
+  s.settleTolerance = pnh.param("settle_tolerance", s.settleTolerance);
+  s.settleStates = pnh.param("settle_states", s.settleStates);
+  s.settleTimeout = pnh.param("settle_timeout", s.settleTimeout);
+  const std::string onTimeout = pnh.param<std::string>("on_timeout", "skip");
+  if (s.bag.empty()) throw Stop("~bag (the recording to write) is required");
+  if (!(s.settleTolerance > 0.0) || !std::isfinite(s.settleTolerance))
+    throw Stop("~settle_tolerance must be positive and finite, got " + std::to_string(s.settleTolerance));
+  if (s.settleStates < 1) throw Stop("~settle_states must be at least 1, got " + std::to_string(s.settleStates));
+  if (!(s.settleTimeout > 0.0) || !std::isfinite(s.settleTimeout))
+    throw Stop("~settle_timeout must be positive and finite, got " + std::to_string(s.settleTimeout));
+  if (onTimeout != "skip" && onTimeout != "stop") throw Stop("~on_timeout must be skip or stop, got '" + onTimeout + "'");
+  s.stopOnTimeout = onTimeout == "stop";
+  return s;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "acquisition_driver");
+  ros::NodeHandle nh, pnh("~");
+  try {
+    const DriverSettings settings = readSettings(pnh);
+    de::scene_file::SceneDescription scene = de::scene_file::readSceneFile(de::scene_file::findSceneFile(pnh.param<std::string>("scene", "slab")));
+    const std::string planPath = pnh.param<std::string>("plan", "");
+    const int examples = pnh.param("examples", 0);
+    if (examples < 0) throw Stop("~examples must be positive (0: the scene's plan), got " + std::to_string(examples));
+    if (!planPath.empty()) scene.plan = planPath;
+    else if (examples > 0) scene.plan = "auto";  // the nested plan, as de_make_examples --examples
+    ROS_INFO("acquisition driver: scene %s: building its models...", scene.name.c_str());
+    de::acquisition::SceneAcquisition acquisition(scene);
+    const auto plan = de::acquisition::scenePlan(acquisition, examples > 0 ? std::optional<int>(examples) : std::nullopt);
+    Driver(nh, settings, acquisition).run(plan);
+  } catch (const std::exception& e) {
+    ROS_FATAL("acquisition driver: %s", e.what());
+    return 1;
+  }
+  return 0;
+}
