@@ -118,10 +118,11 @@ QuasiStaticSolver::QuasiStaticSolver(const TetFem& fem, SolverSettings settings)
 
 QuasiStaticSolver::~QuasiStaticSolver() = default;
 
-SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const DirichletConstraints& constraints,
-                                     const AnchorSprings& springs) {
-  const Clock::time_point start = Clock::now();
-  const Eigen::Index V = fem_.numVertices();
+namespace {
+
+// Sizes, finiteness and ranges of solve()'s input; throws InvalidInputError naming the problem.
+void checkSolveInput(Eigen::Index V, const Eigen::Matrix3Xd& positions, const DirichletConstraints& constraints,
+                     const AnchorSprings& springs) {
   if (positions.cols() != V)
     throw InvalidInputError("QuasiStaticSolver: positions have " + std::to_string(positions.cols()) + " columns for " +
                             std::to_string(V) + " vertices");
@@ -135,180 +136,195 @@ SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const Dirichle
     if (seen[static_cast<std::size_t>(v)]++) throw InvalidInputError("QuasiStaticSolver: vertex " + std::to_string(v) + " constrained twice");
   }
   springs.validate(V);
-  int freeCount = 0;
-  const Eigen::VectorXi map = makeDofMap(V, constraints.vertices, &freeCount);
-  if (freeCount == 0) throw InvalidInputError("QuasiStaticSolver: every vertex is constrained");
-  for (std::size_t k = 0; k < constraints.vertices.size(); ++k)
-    positions.col(constraints.vertices[k]) = constraints.positions.col(static_cast<Eigen::Index>(k));
+}
 
-  Linear& linear = *linear_;
-  linear.prepare(fem_, map);
-  SolveResult result;
-  result.freeDofs = freeCount;
+}  // namespace
 
-  // The springs' energy is separable per vertex: its Hessian k_i I adds to the diagonal only.
-  const auto totalEnergy = [&](const Eigen::Matrix3Xd& x) { return fem_.energy(x) + springs.energy(x); };
-  const auto totalGradient = [&](const Eigen::Matrix3Xd& x) {
-    Eigen::VectorXd full = fem_.gradient(x);
+/// One call of solve(): the objective (elastic energy plus springs) on the free dofs, and the state of the
+/// Newton loop between iterations.
+struct QuasiStaticSolver::Run {
+  Run(const TetFem& f, const SolverSettings& s, Linear& l, const AnchorSprings& sp, const Eigen::VectorXi& m, Eigen::Matrix3Xd& x,
+      SolveResult& r, Clock::time_point t)
+      : fem(f), settings(s), linear(l), springs(sp), map(m), positions(x), result(r), start(t) {}
+
+  const TetFem& fem;
+  const SolverSettings& settings;
+  Linear& linear;
+  const AnchorSprings& springs;
+  const Eigen::VectorXi& map;
+  Eigen::Matrix3Xd& positions;
+  SolveResult& result;
+  const Clock::time_point start;
+  double energy = 0.0, forceNorm = 0.0;
+  double energyNoise = 0.0;  ///< round-off level of E
+  double exactBelow = 0.0;   ///< |f| below which the exact Hessian is tried
+  Eigen::VectorXd g;         ///< reduced gradient at `positions`
+  bool hessianCurrent = true;  ///< linear.H holds the projected Hessian at `positions`
+  bool reuseNext = false;      ///< next direction from the current factorisation (chord step)
+
+  double totalEnergy(const Eigen::Matrix3Xd& x) const { return fem.energy(x) + springs.energy(x); }
+
+  Eigen::VectorXd totalGradient(const Eigen::Matrix3Xd& x) const {
+    Eigen::VectorXd full = fem.gradient(x);
     springs.addGradient(x, full);
     return full;
-  };
-  const auto assemble = [&](HessianKind kind, Eigen::SparseMatrix<double>& M) {
-    fem_.assembleReduced(positions, map, true, kind, M, nullptr);
+  }
+
+  // The springs' energy is separable per vertex: its Hessian k_i I adds to the diagonal only.
+  void assemble(HessianKind kind, Eigen::SparseMatrix<double>& M) const {
+    fem.assembleReduced(positions, map, true, kind, M, nullptr);
     for (std::size_t i = 0; i < springs.vertices.size(); ++i)
       for (int axis = 0; axis < 3; ++axis) {
         const int row = map[3 * springs.vertices[i] + axis];
         if (row >= 0) M.valuePtr()[linear.diagonal[static_cast<std::size_t>(row)]] += springs.stiffness[static_cast<Eigen::Index>(i)];
       }
-  };
-  const auto reducedGradient = [&](const Eigen::Matrix3Xd& x, Eigen::VectorXd& reduced) {
+  }
+
+  void reducedGradient(const Eigen::Matrix3Xd& x, Eigen::VectorXd& reduced) const {
     const Eigen::VectorXd full = totalGradient(x);
     reduced.resize(static_cast<Eigen::Index>(linear.freeDofs.size()));
     for (std::size_t r = 0; r < linear.freeDofs.size(); ++r) reduced[static_cast<Eigen::Index>(r)] = full[linear.freeDofs[r]];
-  };
-
-  double energy = totalEnergy(positions);
-  if (!std::isfinite(energy))
-    throw InvalidInputError("QuasiStaticSolver: the initial positions give a non-finite energy (extreme deformation)");
-  Eigen::VectorXd g;
-  assemble(HessianKind::Projected, linear.H);
-  reducedGradient(positions, g);
-  result.initialForceNorm = g.norm();
-  double absolute = settings_.absoluteForceTolerance;
-  if (absolute < 0.0) {
-    const Eigen::Vector3d extent = fem_.rest().vertices.rowwise().maxCoeff() - fem_.rest().vertices.rowwise().minCoeff();
-    absolute = 1e-12 * fem_.maxShearModulus() * extent.squaredNorm();
   }
-  result.forceTolerance = std::max(settings_.relativeForceTolerance * result.initialForceNorm, absolute);
-  double forceNorm = result.initialForceNorm;
-  // Round-off level of E: each tet's Psi is accurate to ~eps mu' V relative to its O(mu V) terms.
-  const double energyNoise = 1e-14 * fem_.maxShearModulus() * fem_.restVolumes().sum();
-  const auto applyStep = [&](Eigen::Matrix3Xd& x, const Eigen::VectorXd& step, double alpha) {
+
+  void applyStep(Eigen::Matrix3Xd& x, const Eigen::VectorXd& step, double alpha) const {
     for (std::size_t r = 0; r < linear.freeDofs.size(); ++r) {
       const int d = linear.freeDofs[r];
       x(d % 3, d / 3) += alpha * step[static_cast<Eigen::Index>(r)];
     }
-  };
+  }
 
-  result.status = SolverStatus::MaxIterations;
-  if (forceNorm <= result.forceTolerance) result.status = SolverStatus::Converged;
-  Eigen::Matrix3Xd trial;
-  const bool tryExact = settings_.exactHessianBelow > 0.0;
-  bool hessianCurrent = true;  // linear.H holds the projected Hessian at `positions`
-  bool reuseNext = false;      // next direction from the current factorisation (chord step)
-  double exactBelow = settings_.exactHessianBelow * result.initialForceNorm;
-  while (result.status != SolverStatus::Converged && result.iterations < settings_.maxIterations) {
-    if (secondsSince(start) > settings_.maxSeconds) {
-      result.status = SolverStatus::TimeLimit;
-      break;
+  // Energy, forces and tolerances at the start.
+  void begin() {
+    energy = totalEnergy(positions);
+    if (!std::isfinite(energy))
+      throw InvalidInputError("QuasiStaticSolver: the initial positions give a non-finite energy (extreme deformation)");
+    assemble(HessianKind::Projected, linear.H);
+    reducedGradient(positions, g);
+    result.initialForceNorm = g.norm();
+    double absolute = settings.absoluteForceTolerance;
+    if (absolute < 0.0) {
+      const Eigen::Vector3d extent = fem.rest().vertices.rowwise().maxCoeff() - fem.rest().vertices.rowwise().minCoeff();
+      absolute = 1e-12 * fem.maxShearModulus() * extent.squaredNorm();
     }
-    IterationRecord record;
-    record.iteration = result.iterations + 1;
-    Clock::time_point phase = Clock::now();
-    Eigen::VectorXd direction;
-    bool factored = false;
-    // Chord step: while Newton steps contract the force strongly, the previous factorisation still
-    // gives a good direction for the price of a triangular solve (factorising dominates on large meshes).
+    result.forceTolerance = std::max(settings.relativeForceTolerance * result.initialForceNorm, absolute);
+    forceNorm = result.initialForceNorm;
+    // Round-off level of E: each tet's Psi is accurate to ~eps mu' V relative to its O(mu V) terms.
+    energyNoise = 1e-14 * fem.maxShearModulus() * fem.restVolumes().sum();
+    exactBelow = settings.exactHessianBelow * result.initialForceNorm;
+    result.status = forceNorm <= result.forceTolerance ? SolverStatus::Converged : SolverStatus::MaxIterations;
+  }
+
+  // A descent direction: the chord step when allowed, else Newton on the exact Hessian near the solution,
+  // else on the projected (PSD) one, shifted only when its factorisation reports it is not positive
+  // definite (fully crushed tets can make it singular). False when none is found.
+  bool direction(IterationRecord& record, Eigen::VectorXd& d) {
+    const Clock::time_point phase = Clock::now();
+    bool found = false;
+    // Chord step: while Newton steps contract the force strongly, the previous factorisation still gives a
+    // good direction for the price of a triangular solve (factorising dominates on large meshes).
     if (reuseNext) {
-      direction = linear.solve(-g);
-      factored = direction.allFinite() && direction.dot(g) < 0.0;
-      record.reusedFactorization = factored;
+      d = linear.solve(-g);
+      found = d.allFinite() && d.dot(g) < 0.0;
+      record.reusedFactorization = found;
     }
-    if (!factored) {
+    if (!found) {
       if (!hessianCurrent) {
         const Clock::time_point assembly = Clock::now();
         assemble(HessianKind::Projected, linear.H);
         record.assemblySeconds += secondsSince(assembly);
         hessianCurrent = true;
       }
-      // Newton direction on the projected (PSD) Hessian; a diagonal shift only when the factorisation
-      // reports it is not positive definite (fully crushed tets can make it singular).
-      double meanDiagonal = 0.0;
-      for (Eigen::Index i : linear.diagonal) meanDiagonal += std::abs(linear.H.valuePtr()[i]);
-      meanDiagonal = std::max(meanDiagonal / static_cast<double>(linear.diagonal.size()), std::numeric_limits<double>::min());
-      // Close to a stable equilibrium the exact Hessian is positive definite and gives Newton's quadratic
-      // convergence, which the projected one (exact only where every element is convex) loses. Try it once
-      // the force is small; when it is indefinite, fall back to the projection below.
-      if (tryExact && forceNorm <= exactBelow) {
-        if (linear.Hexact.rows() != linear.H.rows()) linear.Hexact = linear.H;
-        assemble(HessianKind::Exact, linear.Hexact);
-        ++result.factorizations;
-        if (linear.factorize(linear.Hexact, 0.0)) {
-          direction = linear.solve(-g);
-          factored = direction.allFinite() && direction.dot(g) < 0.0;
-        }
-        record.exactHessian = factored;
-        // Not positive definite yet (e.g. still far from a stable state, or near a buckling point):
-        // try again once the force has dropped tenfold.
-        if (!factored) exactBelow = 0.1 * forceNorm;
-      }
-      for (double shift = 0.0; !factored && shift <= 1e3 * meanDiagonal;
-           shift = shift == 0.0 ? 1e-10 * meanDiagonal : shift * 100.0) {
-        ++result.factorizations;
-        if (!linear.factorize(linear.H, shift)) continue;
-        direction = linear.solve(-g);
-        if (direction.allFinite() && direction.dot(g) < 0.0) {
-          record.regularisation = shift;
-          factored = true;
-        }
-      }
+      found = exactDirection(record, d) || projectedDirection(record, d);
     }
     record.factorSeconds = secondsSince(phase) - record.assemblySeconds;
-    if (!factored) {
-      result.status = SolverStatus::LinearSolverFailed;
-      break;
+    return found;
+  }
+
+  // Close to a stable equilibrium the exact Hessian is positive definite and gives Newton's quadratic
+  // convergence, which the projected one (exact only where every element is convex) loses. Tried once the
+  // force is small; when it is indefinite (still far from a stable state, or near a buckling point), tried
+  // again once the force has dropped tenfold.
+  bool exactDirection(IterationRecord& record, Eigen::VectorXd& d) {
+    if (!(settings.exactHessianBelow > 0.0 && forceNorm <= exactBelow)) return false;
+    if (linear.Hexact.rows() != linear.H.rows()) linear.Hexact = linear.H;
+    assemble(HessianKind::Exact, linear.Hexact);
+    ++result.factorizations;
+    bool found = false;
+    if (linear.factorize(linear.Hexact, 0.0)) {
+      d = linear.solve(-g);
+      found = d.allFinite() && d.dot(g) < 0.0;
     }
-    // Back-tracking line search on the energy (Armijo condition).
-    phase = Clock::now();
-    const double slope = direction.dot(g);
-    double alpha = 1.0, trialEnergy = 0.0;
+    record.exactHessian = found;
+    if (!found) exactBelow = 0.1 * forceNorm;
+    return found;
+  }
+
+  bool projectedDirection(IterationRecord& record, Eigen::VectorXd& d) {
+    double meanDiagonal = 0.0;
+    for (Eigen::Index i : linear.diagonal) meanDiagonal += std::abs(linear.H.valuePtr()[i]);
+    meanDiagonal = std::max(meanDiagonal / static_cast<double>(linear.diagonal.size()), std::numeric_limits<double>::min());
+    for (double shift = 0.0; shift <= 1e3 * meanDiagonal; shift = shift == 0.0 ? 1e-10 * meanDiagonal : shift * 100.0) {
+      ++result.factorizations;
+      if (!linear.factorize(linear.H, shift)) continue;
+      d = linear.solve(-g);
+      if (d.allFinite() && d.dot(g) < 0.0) {
+        record.regularisation = shift;
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // Back-tracking line search on the energy (Armijo condition) into `trial`; true when a step is accepted.
+  bool lineSearch(const Eigen::VectorXd& d, IterationRecord& record, Eigen::Matrix3Xd& trial, double& alpha, double& trialEnergy) const {
+    const Clock::time_point phase = Clock::now();
+    const double slope = d.dot(g);
+    alpha = 1.0;
     bool accepted = false;
     // Below the round-off level of E the Armijo test only compares noise: stop back-tracking there.
     const double noise = energyNoise + 1e-12 * std::abs(energy);
-    for (int step = 0; step < settings_.maxLineSearchSteps && alpha * std::abs(slope) > noise; ++step, alpha *= 0.5) {
+    for (int step = 0; step < settings.maxLineSearchSteps && alpha * std::abs(slope) > noise; ++step, alpha *= 0.5) {
       trial = positions;
-      applyStep(trial, direction, alpha);
+      applyStep(trial, d, alpha);
       trialEnergy = totalEnergy(trial);
       record.lineSearchSteps = step;
-      if (trialEnergy <= energy + settings_.armijo * alpha * slope) {
+      if (trialEnergy <= energy + settings.armijo * alpha * slope) {
         accepted = true;
         break;
       }
     }
-    if (!accepted) {
-      // Near the solution the energy decrease drops below the round-off of E; then accept the full
-      // Newton step if it does not raise E beyond that round-off and it reduces the force norm.
-      trial = positions;
-      applyStep(trial, direction, 1.0);
-      trialEnergy = totalEnergy(trial);
-      if (trialEnergy <= energy + noise) {
-        const Eigen::VectorXd full = totalGradient(trial);
-        double norm2 = 0.0;
-        for (int d : linear.freeDofs) norm2 += full[d] * full[d];
-        if (std::sqrt(norm2) < forceNorm) {
-          accepted = true;
-          alpha = 1.0;
-        }
-      }
-    }
+    if (!accepted) accepted = acceptFullStepAtRoundOff(d, noise, trial, alpha, trialEnergy);
     record.lineSearchSeconds = secondsSince(phase);
-    if (!accepted && record.reusedFactorization) {
-      reuseNext = false;  // the stale direction was poor: retry with a fresh factorisation
-      continue;
-    }
-    if (!accepted) {
-      result.status = SolverStatus::LineSearchFailed;
-      break;
-    }
+    return accepted;
+  }
+
+  // Near the solution the energy decrease drops below the round-off of E; then the full Newton step is
+  // accepted if it does not raise E beyond that round-off and it reduces the force norm.
+  bool acceptFullStepAtRoundOff(const Eigen::VectorXd& d, double noise, Eigen::Matrix3Xd& trial, double& alpha,
+                                double& trialEnergy) const {
+    trial = positions;
+    applyStep(trial, d, 1.0);
+    trialEnergy = totalEnergy(trial);
+    if (trialEnergy > energy + noise) return false;
+    const Eigen::VectorXd full = totalGradient(trial);
+    double norm2 = 0.0;
+    for (int dof : linear.freeDofs) norm2 += full[dof] * full[dof];
+    if (std::sqrt(norm2) >= forceNorm) return false;
+    alpha = 1.0;
+    return true;
+  }
+
+  // Moves to the accepted trial and records the iteration.
+  void accept(Eigen::Matrix3Xd& trial, double alpha, double trialEnergy, IterationRecord& record) {
     positions.swap(trial);
     energy = trialEnergy;
-    phase = Clock::now();
+    const Clock::time_point phase = Clock::now();
     reducedGradient(positions, g);
     hessianCurrent = false;
     record.assemblySeconds += secondsSince(phase);
     const double previousForceNorm = forceNorm;
     forceNorm = g.norm();
-    reuseNext = settings_.reuseContraction > 0.0 && alpha == 1.0 && forceNorm <= settings_.reuseContraction * previousForceNorm;
+    reuseNext = settings.reuseContraction > 0.0 && alpha == 1.0 && forceNorm <= settings.reuseContraction * previousForceNorm;
     ++result.iterations;
     record.energy = energy;
     record.forceNorm = forceNorm;
@@ -316,16 +332,55 @@ SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const Dirichle
     record.stepLength = alpha;
     record.elapsedSeconds = secondsSince(start);
     result.history.push_back(record);
-    if (settings_.callback) settings_.callback(record);
+    if (settings.callback) settings.callback(record);
     if (forceNorm <= result.forceTolerance) result.status = SolverStatus::Converged;
   }
-  result.finalForceNorm = forceNorm;
-  result.energy = energy;
+};
+
+SolveResult QuasiStaticSolver::solve(Eigen::Matrix3Xd& positions, const DirichletConstraints& constraints,
+                                     const AnchorSprings& springs) {
+  const Clock::time_point start = Clock::now();
+  checkSolveInput(fem_.numVertices(), positions, constraints, springs);
+  int freeCount = 0;
+  const Eigen::VectorXi map = makeDofMap(fem_.numVertices(), constraints.vertices, &freeCount);
+  if (freeCount == 0) throw InvalidInputError("QuasiStaticSolver: every vertex is constrained");
+  for (std::size_t k = 0; k < constraints.vertices.size(); ++k)
+    positions.col(constraints.vertices[k]) = constraints.positions.col(static_cast<Eigen::Index>(k));
+  linear_->prepare(fem_, map);
+  SolveResult result;
+  result.freeDofs = freeCount;
+  Run run(fem_, settings_, *linear_, springs, map, positions, result, start);
+  run.begin();
+  Eigen::Matrix3Xd trial;
+  while (result.status != SolverStatus::Converged && result.iterations < settings_.maxIterations) {
+    if (secondsSince(start) > settings_.maxSeconds) {
+      result.status = SolverStatus::TimeLimit;
+      break;
+    }
+    IterationRecord record;
+    record.iteration = result.iterations + 1;
+    Eigen::VectorXd direction;
+    if (!run.direction(record, direction)) {
+      result.status = SolverStatus::LinearSolverFailed;
+      break;
+    }
+    double alpha = 1.0, trialEnergy = 0.0;
+    if (run.lineSearch(direction, record, trial, alpha, trialEnergy)) {
+      run.accept(trial, alpha, trialEnergy, record);
+    } else if (record.reusedFactorization) {
+      run.reuseNext = false;  // the stale direction was poor: retry with a fresh factorisation
+    } else {
+      result.status = SolverStatus::LineSearchFailed;
+      break;
+    }
+  }
+  result.finalForceNorm = run.forceNorm;
+  result.energy = run.energy;
   result.seconds = secondsSince(start);
   std::ostringstream message;
-  message << toString(result.status) << " after " << result.iterations << " Newton iterations: |f| = " << forceNorm
+  message << toString(result.status) << " after " << result.iterations << " Newton iterations: |f| = " << run.forceNorm
           << " N (start " << result.initialForceNorm << " N, tolerance " << result.forceTolerance << " N), E = "
-          << energy << " J, " << result.seconds << " s, " << freeCount << " free dofs";
+          << run.energy << " J, " << result.seconds << " s, " << freeCount << " free dofs";
   result.message = message.str();
   return result;
 }

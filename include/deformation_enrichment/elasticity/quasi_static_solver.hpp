@@ -105,6 +105,7 @@ public:
 
 private:
   struct Linear;
+  struct Run;
   const TetFem& fem_;
   SolverSettings settings_;
   std::unique_ptr<Linear> linear_;
