@@ -118,10 +118,7 @@ int checkAgainstCalculix(const elasticity::CalculixModel& model, const std::stri
   return 1;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App app{"Quasi-static Stable Neo-Hookean simulation of a tool indenting / dragging a soft-tissue scene"};
+struct Options {
   std::string sceneName = "slab", tetgenBase, outDir = "de_simulate_out", variantName = "paper", solverName = "auto";
   std::string mode = "indent";
   std::vector<int> cells;
@@ -129,124 +126,142 @@ int main(int argc, char** argv) {
   int skinLayers = 0, steps = 10, indentSteps = 4, maxIterations = 100;
   std::vector<double> point{0.0, 0.0}, indentDirection{0.0, 0.0, -1.0}, dragDirection{1.0, 0.0, 0.0};
   double toolRadius = 0.004, depth = 0.004, dragDistance = 0.01, tolerance = 1e-8, maxSeconds = 600.0, fixTolerance = 1e-6;
-  app.add_option("--scene", sceneName, "slab | pillow | meniscus")->check(CLI::IsMember({"slab", "pillow", "meniscus"}));
-  app.add_option("--tetgen", tetgenBase, "read <base>.node/.ele instead (lowest z fixed, highest z is the top)");
-  app.add_option("--fix-tolerance", fixTolerance, "TetGen scenes: z tolerance of the support and top layers (m)");
-  app.add_option("--cells", cells, "cells: first, second surface direction, bulk thickness (3 integers)")->expected(3);
-  auto* skinThicknessOption = app.add_option("--skin-thickness", skinThickness, "skin thickness in m (0 = no skin; default: the scene's)");
-  auto* skinLayersOption = app.add_option("--skin-layers", skinLayers, "cell layers through the skin (default: the scene's)");
-  app.add_option("--bulk-young", bulkYoung, "bulk Young's modulus (Pa)");
-  app.add_option("--bulk-poisson", bulkPoisson, "bulk Poisson ratio");
-  app.add_option("--skin-young", skinYoung, "skin Young's modulus (Pa)");
-  app.add_option("--skin-poisson", skinPoisson, "skin Poisson ratio");
-  app.add_option("--variant", variantName, "paper | production")->check(CLI::IsMember({"paper", "production"}));
-  app.add_option("--mode", mode, "indent | drag")->check(CLI::IsMember({"indent", "drag"}));
-  app.add_option("--point", point, "tool position x y on the top surface (m)")->expected(2);
-  app.add_option("--tool-radius", toolRadius, "tool footprint radius (m)");
-  app.add_option("--depth", depth, "indentation depth (m)");
-  app.add_option("--indent-direction", indentDirection, "indentation direction (3 numbers)")->expected(3);
-  app.add_option("--direction", dragDirection, "drag direction (3 numbers)")->expected(3);
-  app.add_option("--drag-distance", dragDistance, "drag distance (m)");
-  auto* stepsOption = app.add_option("--steps", steps, "steps of the motion (indent mode: indentation steps; drag mode: drag steps)");
-  app.add_option("--indent-steps", indentSteps, "drag mode: indentation steps before the drag");
-  app.add_option("--solver", solverName, "auto | cholmod | ldlt")->check(CLI::IsMember({"auto", "cholmod", "ldlt"}));
-  app.add_option("--max-iterations", maxIterations, "Newton iterations per step");
-  auto* toleranceOption = app.add_option("--tolerance", tolerance, "relative force tolerance (with --check-calculix: the "
-                                        "largest relative difference accepted, default 0.01)");
-  bool checkCalculix = false;
-  app.add_flag("--check-calculix", checkCalculix,
-               "solve the indentation (Dirichlet tool) with CalculiX's ccx too and print the difference as JSON; "
-               "exit 1 if it exceeds --tolerance");
-  app.add_option("--max-seconds", maxSeconds, "time limit per step (s)");
   double exactBelow = elasticity::SolverSettings().exactHessianBelow;
   double reuseContraction = elasticity::SolverSettings().reuseContraction;
-  app.add_option("--exact-below", exactBelow, "try the exact Hessian once |f| <= this fraction of |f_0| (0 = never)");
-  app.add_option("--reuse-contraction", reuseContraction, "reuse a factorisation after a step shrinking |f| to this fraction (0 = never)");
-  app.add_option("--out", outDir, "output directory (OBJ per step, log.json)");
-  CLI11_PARSE(app, argc, argv);
+  bool checkCalculix = false;
+  CLI::Option *skinThicknessOption = nullptr, *skinLayersOption = nullptr, *stepsOption = nullptr, *toleranceOption = nullptr;
+};
 
-  try {
-    const std::optional<double> thickness = skinThicknessOption->count() ? std::optional<double>(skinThickness) : std::nullopt;
-    const std::optional<int> layers = skinLayersOption->count() ? std::optional<int>(skinLayers) : std::nullopt;
-    const scenes::Scene scene = tetgenBase.empty() ? proceduralScene(sceneName, cells, thickness, layers)
-                                                   : sceneFromTetGen(tetgenBase, fixTolerance);
-    const Eigen::Vector3d indent(indentDirection[0], indentDirection[1], indentDirection[2]);
-    const std::vector<int> tool = acquisition::toolFootprint(scene, Eigen::Vector2d(point[0], point[1]), toolRadius);
-    if (checkCalculix) {
-      if (mode != "indent") throw InvalidInputError("--check-calculix compares an indentation; --mode drag is not supported");
-      const elasticity::CalculixModel model = calculixModel(scene, tool,
-                                                            acquisition::toolDisplacement(1, 1, 0, indent, depth, Eigen::Vector3d::UnitX(), 0.0),
-                                                            {{bulkYoung, bulkPoisson}, {skinYoung, skinPoisson}},
-                                                            stepsOption->count() ? steps : kCheckIncrements);
-      const double limit = toleranceOption->count() ? tolerance : kCheckTolerance;
-      return checkAgainstCalculix(model, variantName, depth, tool.size(), limit);
-    }
-    const elasticity::SnhVariant variant = variantName == "paper" ? elasticity::SnhVariant::Paper : elasticity::SnhVariant::Production;
-    const auto bulk = elasticity::lameFromYoungPoisson(bulkYoung, bulkPoisson);
-    const auto skin = elasticity::lameFromYoungPoisson(skinYoung, skinPoisson);
-    const elasticity::TetFem fem(scene.mesh,
-                                 {elasticity::StableNeoHookean(bulk.mu, bulk.lambda, variant),
-                                  elasticity::StableNeoHookean(skin.mu, skin.lambda, variant)},
-                                 scene.materialId);
-    elasticity::SolverSettings settings;
-    settings.maxIterations = maxIterations;
-    settings.relativeForceTolerance = tolerance;
-    settings.maxSeconds = maxSeconds;
-    settings.exactHessianBelow = exactBelow;
-    settings.reuseContraction = reuseContraction;
-    settings.linearSolver = solverName == "cholmod" ? elasticity::LinearSolverKind::Cholmod
-                            : solverName == "ldlt"  ? elasticity::LinearSolverKind::SimplicialLDLT
+void addOptions(CLI::App& app, Options& o) {
+  app.add_option("--scene", o.sceneName, "slab | pillow | meniscus")->check(CLI::IsMember({"slab", "pillow", "meniscus"}));
+  app.add_option("--tetgen", o.tetgenBase, "read <base>.node/.ele instead (lowest z fixed, highest z is the top)");
+  app.add_option("--fix-tolerance", o.fixTolerance, "TetGen scenes: z tolerance of the support and top layers (m)");
+  app.add_option("--cells", o.cells, "cells: first, second surface direction, bulk thickness (3 integers)")->expected(3);
+  o.skinThicknessOption = app.add_option("--skin-thickness", o.skinThickness, "skin thickness in m (0 = no skin; default: the scene's)");
+  o.skinLayersOption = app.add_option("--skin-layers", o.skinLayers, "cell layers through the skin (default: the scene's)");
+  app.add_option("--bulk-young", o.bulkYoung, "bulk Young's modulus (Pa)");
+  app.add_option("--bulk-poisson", o.bulkPoisson, "bulk Poisson ratio");
+  app.add_option("--skin-young", o.skinYoung, "skin Young's modulus (Pa)");
+  app.add_option("--skin-poisson", o.skinPoisson, "skin Poisson ratio");
+  app.add_option("--variant", o.variantName, "paper | production")->check(CLI::IsMember({"paper", "production"}));
+  app.add_option("--mode", o.mode, "indent | drag")->check(CLI::IsMember({"indent", "drag"}));
+  app.add_option("--point", o.point, "tool position x y on the top surface (m)")->expected(2);
+  app.add_option("--tool-radius", o.toolRadius, "tool footprint radius (m)");
+  app.add_option("--depth", o.depth, "indentation depth (m)");
+  app.add_option("--indent-direction", o.indentDirection, "indentation direction (3 numbers)")->expected(3);
+  app.add_option("--direction", o.dragDirection, "drag direction (3 numbers)")->expected(3);
+  app.add_option("--drag-distance", o.dragDistance, "drag distance (m)");
+  o.stepsOption = app.add_option("--steps", o.steps, "steps of the motion (indent mode: indentation steps; drag mode: drag steps)");
+  app.add_option("--indent-steps", o.indentSteps, "drag mode: indentation steps before the drag");
+  app.add_option("--solver", o.solverName, "auto | cholmod | ldlt")->check(CLI::IsMember({"auto", "cholmod", "ldlt"}));
+  app.add_option("--max-iterations", o.maxIterations, "Newton iterations per step");
+  o.toleranceOption = app.add_option("--tolerance", o.tolerance, "relative force tolerance (with --check-calculix: the "
+                                     "largest relative difference accepted, default 0.01)");
+  app.add_flag("--check-calculix", o.checkCalculix,
+               "solve the indentation (Dirichlet tool) with CalculiX's ccx too and print the difference as JSON; "
+               "exit 1 if it exceeds --tolerance");
+  app.add_option("--max-seconds", o.maxSeconds, "time limit per step (s)");
+  app.add_option("--exact-below", o.exactBelow, "try the exact Hessian once |f| <= this fraction of |f_0| (0 = never)");
+  app.add_option("--reuse-contraction", o.reuseContraction, "reuse a factorisation after a step shrinking |f| to this fraction (0 = never)");
+  app.add_option("--out", o.outDir, "output directory (OBJ per step, log.json)");
+}
+
+elasticity::SolverSettings solverSettings(const Options& o) {
+  elasticity::SolverSettings settings;
+  settings.maxIterations = o.maxIterations;
+  settings.relativeForceTolerance = o.tolerance;
+  settings.maxSeconds = o.maxSeconds;
+  settings.exactHessianBelow = o.exactBelow;
+  settings.reuseContraction = o.reuseContraction;
+  settings.linearSolver = o.solverName == "cholmod" ? elasticity::LinearSolverKind::Cholmod
+                          : o.solverName == "ldlt"  ? elasticity::LinearSolverKind::SimplicialLDLT
                                                     : elasticity::LinearSolverKind::Auto;
-    elasticity::QuasiStaticSolver solver(fem, settings);
-    const mesh::TetSurface surface = mesh::extractSurface(scene.mesh);
-    std::filesystem::create_directories(outDir);
+  return settings;
+}
 
-    const bool drag = mode == "drag";
-    const int firstPhase = drag ? indentSteps : steps;
-    const int dragSteps = drag ? steps : 0;
-    const Eigen::Vector3d along(dragDirection[0], dragDirection[1], dragDirection[2]);
-    std::cerr << "scene " << scene.name << ": " << scene.mesh.numVertices() << " vertices, " << scene.mesh.numTets()
-              << " tets, " << tool.size() << " tool vertices, " << scene.fixedVertices.size() << " support vertices\n";
-    json log;
-    log["scene"] = {{"name", scene.name}, {"vertices", scene.mesh.numVertices()}, {"tets", scene.mesh.numTets()},
-                    {"tool_vertices", tool.size()}, {"support_vertices", scene.fixedVertices.size()}};
-    log["settings"] = {{"mode", mode}, {"variant", variantName}, {"solver", solverName}, {"depth", depth},
-                       {"drag_distance", dragDistance}, {"tool_radius", toolRadius}, {"tolerance", tolerance}};
-    log["steps"] = json::array();
-    Eigen::Matrix3Xd positions = scene.mesh.vertices;
-    writeObj(outDir + "/step_000.obj", surface, positions);
-    bool allConverged = true;
-    for (int step = 1; step <= firstPhase + dragSteps; ++step) {
-      const Eigen::Vector3d displacement = acquisition::toolDisplacement(step, firstPhase, dragSteps, indent, depth, along, dragDistance);
-      const elasticity::SolveResult result = solver.solve(positions, acquisition::toolConstraints(scene, tool, displacement));
-      allConverged = allConverged && result.converged();
-      char name[32];
-      std::snprintf(name, sizeof(name), "/step_%03d.obj", step);
-      writeObj(outDir + name, surface, positions);
-      std::cerr << "step " << step << "/" << firstPhase + dragSteps << ": " << result.message << '\n';
-      json iterations = json::array();
-      for (const auto& record : result.history)
-        iterations.push_back({{"iteration", record.iteration}, {"energy", record.energy}, {"force_norm", record.forceNorm},
-                              {"relative_force_norm", record.relativeForceNorm}, {"step_length", record.stepLength},
-                              {"line_search_steps", record.lineSearchSteps}, {"regularisation", record.regularisation},
-                              {"exact_hessian", record.exactHessian}, {"reused_factorization", record.reusedFactorization},
-                              {"assembly_s", record.assemblySeconds}, {"factor_solve_s", record.factorSeconds},
-                              {"line_search_s", record.lineSearchSeconds}, {"elapsed_s", record.elapsedSeconds}});
-      log["steps"].push_back({{"step", step}, {"tool_displacement", toJson(displacement)},
-                              {"status", elasticity::toString(result.status)}, {"converged", result.converged()},
-                              {"iterations", result.iterations}, {"initial_force_norm", result.initialForceNorm},
-                              {"final_force_norm", result.finalForceNorm}, {"force_tolerance", result.forceTolerance},
-                              {"energy", result.energy}, {"seconds", result.seconds}, {"surface", std::string(name + 1)},
-                              {"newton", iterations}});
-      std::ofstream(outDir + "/log.json") << log.dump(1) << '\n';  // rewritten each step: usable while running
-    }
-    if (!allConverged) {
-      std::cerr << "warning: at least one step did not converge (see log.json)\n";
-      return 2;
-    }
+json newtonLog(const elasticity::SolveResult& result) {
+  json iterations = json::array();
+  for (const auto& record : result.history)
+    iterations.push_back({{"iteration", record.iteration}, {"energy", record.energy}, {"force_norm", record.forceNorm},
+                          {"relative_force_norm", record.relativeForceNorm}, {"step_length", record.stepLength},
+                          {"line_search_steps", record.lineSearchSteps}, {"regularisation", record.regularisation},
+                          {"exact_hessian", record.exactHessian}, {"reused_factorization", record.reusedFactorization},
+                          {"assembly_s", record.assemblySeconds}, {"factor_solve_s", record.factorSeconds},
+                          {"line_search_s", record.lineSearchSeconds}, {"elapsed_s", record.elapsedSeconds}});
+  return iterations;
+}
+
+/// Solves every step of the motion, writing its surface and the log as it goes. 0, or 2 when a step did not
+/// converge.
+int simulateMotion(const Options& o, const scenes::Scene& scene, const std::vector<int>& tool, const Eigen::Vector3d& indent) {
+  const elasticity::SnhVariant variant = o.variantName == "paper" ? elasticity::SnhVariant::Paper : elasticity::SnhVariant::Production;
+  const auto bulk = elasticity::lameFromYoungPoisson(o.bulkYoung, o.bulkPoisson);
+  const auto skin = elasticity::lameFromYoungPoisson(o.skinYoung, o.skinPoisson);
+  const elasticity::TetFem fem(scene.mesh,
+                               {elasticity::StableNeoHookean(bulk.mu, bulk.lambda, variant),
+                                elasticity::StableNeoHookean(skin.mu, skin.lambda, variant)},
+                               scene.materialId);
+  elasticity::QuasiStaticSolver solver(fem, solverSettings(o));
+  const mesh::TetSurface surface = mesh::extractSurface(scene.mesh);
+  std::filesystem::create_directories(o.outDir);
+  const bool drag = o.mode == "drag";
+  const int firstPhase = drag ? o.indentSteps : o.steps, dragSteps = drag ? o.steps : 0;
+  const Eigen::Vector3d along(o.dragDirection[0], o.dragDirection[1], o.dragDirection[2]);
+  std::cerr << "scene " << scene.name << ": " << scene.mesh.numVertices() << " vertices, " << scene.mesh.numTets()
+            << " tets, " << tool.size() << " tool vertices, " << scene.fixedVertices.size() << " support vertices\n";
+  json log;
+  log["scene"] = {{"name", scene.name}, {"vertices", scene.mesh.numVertices()}, {"tets", scene.mesh.numTets()},
+                  {"tool_vertices", tool.size()}, {"support_vertices", scene.fixedVertices.size()}};
+  log["settings"] = {{"mode", o.mode}, {"variant", o.variantName}, {"solver", o.solverName}, {"depth", o.depth},
+                     {"drag_distance", o.dragDistance}, {"tool_radius", o.toolRadius}, {"tolerance", o.tolerance}};
+  log["steps"] = json::array();
+  Eigen::Matrix3Xd positions = scene.mesh.vertices;
+  writeObj(o.outDir + "/step_000.obj", surface, positions);
+  bool allConverged = true;
+  for (int step = 1; step <= firstPhase + dragSteps; ++step) {
+    const Eigen::Vector3d displacement = acquisition::toolDisplacement(step, firstPhase, dragSteps, indent, o.depth, along, o.dragDistance);
+    const elasticity::SolveResult result = solver.solve(positions, acquisition::toolConstraints(scene, tool, displacement));
+    allConverged = allConverged && result.converged();
+    char name[32];
+    std::snprintf(name, sizeof(name), "/step_%03d.obj", step);
+    writeObj(o.outDir + name, surface, positions);
+    std::cerr << "step " << step << "/" << firstPhase + dragSteps << ": " << result.message << '\n';
+    log["steps"].push_back({{"step", step}, {"tool_displacement", toJson(displacement)},
+                            {"status", elasticity::toString(result.status)}, {"converged", result.converged()},
+                            {"iterations", result.iterations}, {"initial_force_norm", result.initialForceNorm},
+                            {"final_force_norm", result.finalForceNorm}, {"force_tolerance", result.forceTolerance},
+                            {"energy", result.energy}, {"seconds", result.seconds}, {"surface", std::string(name + 1)},
+                            {"newton", newtonLog(result)}});
+    std::ofstream(o.outDir + "/log.json") << log.dump(1) << '\n';  // rewritten each step: usable while running
+  }
+  if (allConverged) return 0;
+  std::cerr << "warning: at least one step did not converge (see log.json)\n";
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Quasi-static Stable Neo-Hookean simulation of a tool indenting / dragging a soft-tissue scene"};
+  Options o;
+  addOptions(app, o);
+  CLI11_PARSE(app, argc, argv);
+  try {
+    const std::optional<double> thickness = o.skinThicknessOption->count() ? std::optional<double>(o.skinThickness) : std::nullopt;
+    const std::optional<int> layers = o.skinLayersOption->count() ? std::optional<int>(o.skinLayers) : std::nullopt;
+    const scenes::Scene scene = o.tetgenBase.empty() ? proceduralScene(o.sceneName, o.cells, thickness, layers)
+                                                     : sceneFromTetGen(o.tetgenBase, o.fixTolerance);
+    const Eigen::Vector3d indent(o.indentDirection[0], o.indentDirection[1], o.indentDirection[2]);
+    const std::vector<int> tool = acquisition::toolFootprint(scene, Eigen::Vector2d(o.point[0], o.point[1]), o.toolRadius);
+    if (!o.checkCalculix) return simulateMotion(o, scene, tool, indent);
+    if (o.mode != "indent") throw InvalidInputError("--check-calculix compares an indentation; --mode drag is not supported");
+    const elasticity::CalculixModel model = calculixModel(scene, tool,
+                                                          acquisition::toolDisplacement(1, 1, 0, indent, o.depth, Eigen::Vector3d::UnitX(), 0.0),
+                                                          {{o.bulkYoung, o.bulkPoisson}, {o.skinYoung, o.skinPoisson}},
+                                                          o.stepsOption->count() ? o.steps : kCheckIncrements);
+    return checkAgainstCalculix(model, o.variantName, o.depth, tool.size(), o.toleranceOption->count() ? o.tolerance : kCheckTolerance);
   } catch (const Error& error) {
     std::cerr << "de_simulate: " << error.what() << '\n';
     return 1;
   }
-  return 0;
 }
