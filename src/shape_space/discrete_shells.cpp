@@ -48,6 +48,51 @@ struct Accumulator {
   double* hessianReference = nullptr;
 };
 
+// The three Hessian blocks (deformed, mixed, reference) of EnergyOutputs and the need bit of each.
+constexpr unsigned kBlockNeeds[3] = {detail::kHessianDeformed, detail::kHessianMixed, detail::kHessianReference};
+
+// Thread `thread`'s accumulator: gradients zeroed, Hessian values written straight into the blocks by
+// thread 0 and into zeroed buffers of the blocks' size by the others (summed by reduceAccumulators).
+void startAccumulator(Accumulator& acc, int thread, unsigned need, Eigen::Index dofs, Eigen::SparseMatrix<double>* const blocks[3]) {
+  acc.active = true;
+  if (need & detail::kGradientDeformed) acc.gradientDeformed = Eigen::VectorXd::Zero(dofs);
+  if (need & detail::kGradientReference) acc.gradientReference = Eigen::VectorXd::Zero(dofs);
+  Eigen::VectorXd* const own[3] = {&acc.ownDeformed, &acc.ownMixed, &acc.ownReference};
+  double** const target[3] = {&acc.hessianDeformed, &acc.hessianMixed, &acc.hessianReference};
+  for (int b = 0; b < 3; ++b) {
+    if (!(need & kBlockNeeds[b])) continue;
+    if (thread == 0) {
+      *target[b] = blocks[b]->valuePtr();
+    } else {
+      *own[b] = Eigen::VectorXd::Zero(blocks[b]->nonZeros());
+      *target[b] = own[b]->data();
+    }
+  }
+}
+
+// Sums the threads' values, gradients and Hessian buffers into the outputs (in thread order: deterministic
+// for a given thread count).
+void reduceAccumulators(const std::vector<Accumulator>& accumulators, const EnergyOutputs& outputs, unsigned need, Eigen::Index dofs,
+                        Eigen::SparseMatrix<double>* const blocks[3]) {
+  if (outputs.value) *outputs.value = 0.0;
+  if (outputs.gradientDeformed) outputs.gradientDeformed->setZero(dofs);
+  if (outputs.gradientReference) outputs.gradientReference->setZero(dofs);
+  for (std::size_t t = 0; t < accumulators.size(); ++t) {
+    const Accumulator& acc = accumulators[t];
+    if (!acc.active) continue;
+    if (outputs.value) *outputs.value += acc.value;
+    if (outputs.gradientDeformed) *outputs.gradientDeformed += acc.gradientDeformed;
+    if (outputs.gradientReference) *outputs.gradientReference += acc.gradientReference;
+    if (t == 0) continue;
+    const Eigen::VectorXd* const own[3] = {&acc.ownDeformed, &acc.ownMixed, &acc.ownReference};
+    for (int b = 0; b < 3; ++b) {
+      if (need & kBlockNeeds[b]) {
+        Eigen::Map<Eigen::VectorXd>(blocks[b]->valuePtr(), blocks[b]->nonZeros()) += *own[b];
+      }
+    }
+  }
+}
+
 template <int NV>
 void scatter(const LocalTerm<NV>& term, const std::array<int, NV>& vertices, unsigned need,
              const HessianPattern& pattern, Accumulator& acc) {
@@ -321,9 +366,8 @@ void DiscreteShells::assemble(const Eigen::VectorXd& reference, const Eigen::Vec
   static constexpr std::array<LocalEdge, 1> kEdge{{{0, 1}}};
 
   Eigen::SparseMatrix<double>* const blocks[3] = {outputs.hessianDeformed, outputs.hessianMixed, outputs.hessianReference};
-  const unsigned blockNeeds[3] = {detail::kHessianDeformed, detail::kHessianMixed, detail::kHessianReference};
   for (int b = 0; b < 3; ++b) {
-    if (need & blockNeeds[b]) *blocks[b] = pattern_.zeros;
+    if (need & kBlockNeeds[b]) *blocks[b] = pattern_.zeros;
   }
   std::vector<Accumulator> accumulators(static_cast<std::size_t>(threads_));
   const Eigen::Index numFaces = (parts & kMembrane) ? triangles_.cols() : 0;
@@ -338,20 +382,7 @@ void DiscreteShells::assemble(const Eigen::VectorXd& reference, const Eigen::Vec
     const int thread = 0;
 #endif
     Accumulator& acc = accumulators[static_cast<std::size_t>(thread)];
-    acc.active = true;
-    if (need & detail::kGradientDeformed) acc.gradientDeformed = Eigen::VectorXd::Zero(dofs);
-    if (need & detail::kGradientReference) acc.gradientReference = Eigen::VectorXd::Zero(dofs);
-    Eigen::VectorXd* const own[3] = {&acc.ownDeformed, &acc.ownMixed, &acc.ownReference};
-    double** const target[3] = {&acc.hessianDeformed, &acc.hessianMixed, &acc.hessianReference};
-    for (int b = 0; b < 3; ++b) {
-      if (!(need & blockNeeds[b])) continue;
-      if (thread == 0) {
-        *target[b] = blocks[b]->valuePtr();
-      } else {
-        *own[b] = Eigen::VectorXd::Zero(blocks[b]->nonZeros());
-        *target[b] = own[b]->data();
-      }
-    }
+    startAccumulator(acc, thread, need, dofs, blocks);
 #pragma omp for schedule(static) nowait
     for (Eigen::Index t = 0; t < numFaces; ++t) {
       const std::array<int, 3> v{triangles_(0, t), triangles_(1, t), triangles_(2, t)};
@@ -386,23 +417,7 @@ void DiscreteShells::assemble(const Eigen::VectorXd& reference, const Eigen::Vec
     }
   }
 
-  if (outputs.value) *outputs.value = 0.0;
-  if (outputs.gradientDeformed) outputs.gradientDeformed->setZero(dofs);
-  if (outputs.gradientReference) outputs.gradientReference->setZero(dofs);
-  for (std::size_t t = 0; t < accumulators.size(); ++t) {
-    const Accumulator& acc = accumulators[t];
-    if (!acc.active) continue;
-    if (outputs.value) *outputs.value += acc.value;
-    if (outputs.gradientDeformed) *outputs.gradientDeformed += acc.gradientDeformed;
-    if (outputs.gradientReference) *outputs.gradientReference += acc.gradientReference;
-    if (t == 0) continue;
-    const Eigen::VectorXd* const own[3] = {&acc.ownDeformed, &acc.ownMixed, &acc.ownReference};
-    for (int b = 0; b < 3; ++b) {
-      if (need & blockNeeds[b]) {
-        Eigen::Map<Eigen::VectorXd>(blocks[b]->valuePtr(), blocks[b]->nonZeros()) += *own[b];
-      }
-    }
-  }
+  reduceAccumulators(accumulators, outputs, need, dofs, blocks);
 }
 
 void DiscreteShells::evaluate(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed,
