@@ -53,7 +53,7 @@ inline de::examples::ExampleSet slabBenchSet(const de::mesh::TriangleMesh& surfa
                                              const de::scene_file::SceneDescription& slab, int count, int layers) {
   de::enrichment::ContactEnricher describer(surface, options);
   de::examples::ExampleSet set;
-  set.metadata.provenance = de::examples::Provenance{slab, {}};
+  set.metadata.provenance = de::examples::Provenance{slab, {}, {}};
   cv::RNG rng(1);
   for (int i = 0; i < count; ++i) {
     de::enrichment::Contact c;

@@ -65,7 +65,7 @@ examples::ExampleSet acquiredSet(descriptors::Quadrature quadrature, const mesh:
   e.stamp = cv::Mat(4, 4, CV_32FC3, cv::Scalar::all(0.0));
   e.stampRadius = options.stampRadius;
   examples::ExampleSet set;
-  set.metadata.provenance = examples::Provenance{acquisitionScene(quadrature), {}};
+  set.metadata.provenance = examples::Provenance{acquisitionScene(quadrature), {}, {}};
   set.examples.push_back(e);
   return set;
 }
