@@ -179,6 +179,18 @@ ToolPath SceneAcquisition::toolPath(const PlanEntry& entry) const {
   return path;
 }
 
+std::vector<Eigen::Vector3d> SceneAcquisition::toolCentres(const PlanEntry& entry) const {
+  const ToolPath path = toolPath(entry);
+  const Eigen::Vector3d touching = path.contact - scene_.tool.radius * path.inward;
+  const double drag = path.drag.norm();
+  const int indentSteps = scene_.solve.indentSteps, dragSteps = drag > 0.0 ? scene_.solve.dragSteps : 0;
+  const Eigen::Vector3d dragDirection = drag > 0.0 ? Eigen::Vector3d(path.drag / drag) : Eigen::Vector3d::UnitX();
+  std::vector<Eigen::Vector3d> centres;
+  for (int step = 0; step <= indentSteps + dragSteps; ++step)
+    centres.push_back(touching + toolDisplacement(step, indentSteps, dragSteps, path.inward, path.depth, dragDirection, drag));
+  return centres;
+}
+
 enrichment::Contact SceneAcquisition::contactOf(const PlanEntry& entry) const {
   enrichment::Contact c;
   c.point = toolPath(entry).contact;

@@ -4,7 +4,8 @@
 // std_srvs/Empty; without one it lifts the tool and waits for the tissue to settle), commands the tool
 // sphere's centre on `servo_cp` along the same indent-then-drag path, in the same steps, as the package's
 // fine solve, waits at each step until `mesh_state` settles, and appends the whole interaction to ~bag.
-// Rerun with the same ~bag, it resumes after the last complete interaction.
+// Rerun with the same ~bag, it resumes after the last complete interaction. The plan: ~plan (CSV), the first
+// ~examples of the scene's automatic plan, ~held_out random interactions (~seed), or the scene's plan.
 #include <ros/ros.h>
 #include <std_srvs/Empty.h>
 
@@ -14,7 +15,6 @@
 
 #include "deformation_enrichment/acquisition/plan_generation.hpp"
 #include "deformation_enrichment/acquisition/scene_acquisition.hpp"
-#include "deformation_enrichment/acquisition/tool_loading.hpp"
 #include "deformation_enrichment/ros/coarse_bag.hpp"
 #include "deformation_enrichment/ros/conversions.hpp"
 
@@ -164,20 +164,15 @@ private:
 
   // Records one plan line into `steps`; returns why it was refused (empty when it was not).
   std::string interaction(std::size_t line, const de::acquisition::PlanEntry& entry, std::vector<de::ros_layer::SettledStep>& steps) {
+    const std::vector<Eigen::Vector3d> centres = scene_.toolCentres(entry);
     const de::acquisition::ToolPath path = scene_.toolPath(entry);
-    const de::scene_file::SceneDescription& d = scene_.scene();
-    const Eigen::Vector3d touching = path.contact - d.tool.radius * path.inward;  // the centre one radius outside
-    reset(touching - std::max(d.tool.radius, 2.0 * path.depth) * path.inward);
-    const double drag = path.drag.norm();
-    const int indentSteps = d.solve.indentSteps, dragSteps = drag > 0.0 ? d.solve.dragSteps : 0;
-    const Eigen::Vector3d dragDirection = drag > 0.0 ? Eigen::Vector3d(path.drag / drag) : Eigen::Vector3d::UnitX();
-    steps.resize(static_cast<std::size_t>(indentSteps + dragSteps + 1));
-    for (int step = 0; step <= indentSteps + dragSteps; ++step) {
-      const Eigen::Vector3d u =
-          de::acquisition::toolDisplacement(step, indentSteps, dragSteps, path.inward, path.depth, dragDirection, drag);
-      const std::string problem = settle(command(touching + u), &steps[static_cast<std::size_t>(step)]);
+    const double radius = scene_.scene().tool.radius;
+    reset(centres.front() - std::max(radius, 2.0 * path.depth) * path.inward);  // lifted clear of the contact
+    steps.resize(centres.size());
+    for (std::size_t step = 0; step < centres.size(); ++step) {
+      const std::string problem = settle(command(centres[step]), &steps[step]);
       if (problem.empty()) continue;
-      const std::string where = "step " + std::to_string(step) + " of " + std::to_string(indentSteps + dragSteps) + ": " + problem;
+      const std::string where = "step " + std::to_string(step) + " of " + std::to_string(centres.size() - 1) + ": " + problem;
       if (problem.rfind("no settle", 0) == 0 && settings_.stopOnTimeout)
         throw Stop("plan line " + std::to_string(line + 1) + ", " + where);
       return where;
@@ -231,13 +226,17 @@ int main(int argc, char** argv) {
     const DriverSettings settings = readSettings(pnh);
     de::scene_file::SceneDescription scene = de::scene_file::readSceneFile(de::scene_file::findSceneFile(pnh.param<std::string>("scene", "slab")));
     const std::string planPath = pnh.param<std::string>("plan", "");
-    const int examples = pnh.param("examples", 0);
-    if (examples < 0) throw Stop("~examples must be positive (0: the scene's plan), got " + std::to_string(examples));
+    const int examples = pnh.param("examples", 0), heldOut = pnh.param("held_out", 0), seed = pnh.param("seed", 1);
+    if (examples < 0 || heldOut < 0)
+      throw Stop("~examples and ~held_out must be positive (0: not used), got " + std::to_string(examples) + " and " + std::to_string(heldOut));
+    if (!planPath.empty() + (examples > 0) + (heldOut > 0) > 1) throw Stop("give one of ~plan, ~examples and ~held_out");
     if (!planPath.empty()) scene.plan = planPath;
     else if (examples > 0) scene.plan = "auto";  // the nested plan, as de_make_examples --examples
     ROS_INFO("acquisition driver: scene %s: building its models...", scene.name.c_str());
     de::acquisition::SceneAcquisition acquisition(scene);
-    const auto plan = de::acquisition::scenePlan(acquisition, examples > 0 ? std::optional<int>(examples) : std::nullopt);
+    // Held-out interactions are drawn as de_evaluate draws them (seeded, uniform over the touchable surface).
+    const auto plan = heldOut > 0 ? de::acquisition::randomContacts(acquisition, heldOut, static_cast<unsigned>(seed))
+                                  : de::acquisition::scenePlan(acquisition, examples > 0 ? std::optional<int>(examples) : std::nullopt);
     Driver(nh, settings, acquisition).run(plan);
   } catch (const std::exception& e) {
     ROS_FATAL("acquisition driver: %s", e.what());

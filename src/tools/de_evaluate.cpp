@@ -46,8 +46,8 @@ void addOptions(CLI::App& app, Settings& s) {
                                       "default set, acquired on first use)")->required();
   app.add_option("--contacts", s.contacts, "CSV x,y,z,depth,dx,dy,dz per held-out interaction (default: random)");
 #ifdef DE_COARSE_BAG
-  app.add_option("--coarse-bag", s.coarseBag, "held-out interactions recorded from another coarse simulator (acquisition_driver): "
-                 "its plan's complete interactions, its settled states as the coarse half")
+  app.add_option("--coarse-bag", s.coarseBag, "held-out interactions recorded from another coarse simulator: acquisition_driver's "
+                 "bag (its plan) or a session of servo_cp and mesh_state (the plan from --contacts); settled states as the coarse half")
       ->check(CLI::ExistingFile);
 #endif
   app.add_option("--held-out", s.heldOut, "random held-out interactions without --contacts")->check(CLI::PositiveNumber);
@@ -304,8 +304,11 @@ void variantCurves(Evaluation& ev, const std::vector<acquisition::HeldOutCase>& 
 std::optional<acquisition::RecordedCoarse> recordedHeldOut(const Evaluation& ev) {
 #ifdef DE_COARSE_BAG
   if (ev.settings.coarseBag.empty()) return std::nullopt;
-  if (!ev.settings.contacts.empty()) throw InvalidInputError("--coarse-bag and --contacts both give the held-out interactions");
-  const acquisition::RecordedCoarse all = ros_layer::readCoarseBag(ev.settings.coarseBag, ev.acquisition->fineSurface().numVertices());
+  // The driver's bag names its plan; a session recorded with the user's own tools takes it from --contacts.
+  const acquisition::RecordedCoarse all =
+      ev.settings.contacts.empty()
+          ? ros_layer::readCoarseBag(ev.settings.coarseBag, ev.acquisition->fineSurface().numVertices())
+          : ros_layer::readSessionBag(ev.settings.coarseBag, *ev.acquisition, acquisition::readPlan(ev.settings.contacts));
   acquisition::RecordedCoarse held{all.path, all.simulator, {}, {}};
   for (std::size_t line = 0; line < all.plan.size(); ++line) {
     const auto state = all.settled.find(line);

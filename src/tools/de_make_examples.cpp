@@ -44,8 +44,8 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   std::string coarseBag;
 #ifdef DE_COARSE_BAG
-  app.add_option("--coarse-bag", coarseBag, "recording of another coarse simulator (acquisition_driver, docs/coarse_simulator.md): "
-                 "its plan, and its settled states as the coarse half")
+  app.add_option("--coarse-bag", coarseBag, "recording of another coarse simulator (docs/coarse_simulator.md): acquisition_driver's "
+                 "(its plan) or a session of servo_cp and mesh_state (the plan from --plan); its settled states are the coarse half")
       ->check(CLI::ExistingFile);
 #endif
   app.add_option("--shard", shardText, "acquire every N-th plan line starting at line I (I/N, 1-based)");
@@ -91,8 +91,10 @@ int main(int argc, char** argv) {
     std::optional<acquisition::RecordedCoarse> recorded;
 #ifdef DE_COARSE_BAG
     if (!coarseBag.empty()) {
-      if (!planPath.empty() || examples) throw InvalidInputError("--coarse-bag brings its plan: no --plan or --examples with it");
-      recorded = ros_layer::readCoarseBag(coarseBag, acq.fineSurface().numVertices());
+      if (examples) throw InvalidInputError("--coarse-bag brings its plan, or takes one with --plan: no --examples with it");
+      // The driver's bag names its plan; a session recorded with the user's own tools takes it from --plan.
+      recorded = planPath.empty() ? ros_layer::readCoarseBag(coarseBag, acq.fineSurface().numVertices())
+                                  : ros_layer::readSessionBag(coarseBag, acq, acquisition::readPlan(planPath));
       std::cerr << "coarse half: " << recorded->settled.size() << " of " << recorded->plan.size() << " interactions recorded from "
                 << recorded->simulator << " in " << coarseBag << "\n";
     }

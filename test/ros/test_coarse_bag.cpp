@@ -127,6 +127,41 @@ TEST(CoarseBag, UnusableRecordingsAreRefusedWithTheProblemNamed) {
   for (const char* name : {"count.bag", "nan.bag", "frame.bag", "cut.bag", "typed.bag", "empty.bag"}) std::filesystem::remove(temporary(name));
 }
 
+TEST(CoarseBag, ASessionOfTheUsersOwnToolsIsCutAtEachInteractionsLastCommand) {
+  // servo_cp and mesh_state as `rosbag record` keeps them: line 1 ends where the tool reaches (0, 0, 0.01),
+  // its settled state is the last before the tool moves away; line 2's end is never reached.
+  const std::string path = temporary("session.bag");
+  {
+    rosbag::Bag bag(path, rosbag::bagmode::Write);
+    const auto header = boost::make_shared<std::map<std::string, std::string>>();
+    (*header)["callerid"] = "/my_simulator";  // a custom connection header carries the type too
+    (*header)["type"] = ros::message_traits::datatype<sensor_msgs::PointCloud2>();
+    (*header)["md5sum"] = ros::message_traits::md5sum<sensor_msgs::PointCloud2>();
+    (*header)["message_definition"] = ros::message_traits::definition<sensor_msgs::PointCloud2>();
+    const auto put = [&](double t, double z) {
+      ros_layer::SettledStep s = step(z);
+      bag.write("/servo_cp", ros::Time(t), s.command);
+      bag.write("/sim/mesh_state", ros::Time(t + 0.01), s.state, header);
+      bag.write("/sim/mesh_state", ros::Time(t + 0.02), step(z + 0.001).state, header);
+    };
+    put(1.0, 0.02);   // approaching
+    put(2.0, 0.01);   // line 1's last centre: its states are z 0.01 and 0.011
+    put(3.0, 0.05);   // moved away
+  }
+  const std::vector<Eigen::Vector3d> finals{Eigen::Vector3d(0.0, 0.0, 0.01), Eigen::Vector3d(0.0, 0.0, -1.0)};
+  const acquisition::RecordedCoarse r = ros_layer::readSessionBag(path, kVertices, plan(), {finals[0], finals[1], finals[1]}, 1e-4);
+  EXPECT_EQ(r.simulator, "/my_simulator");
+  ASSERT_EQ(r.settled.size(), 1u);
+  EXPECT_FLOAT_EQ(static_cast<float>(r.settled.at(0)(2, 0)), 0.011f);
+  try {
+    ros_layer::readSessionBag(path, kVertices, plan(), {finals[1], finals[1], finals[1]}, 1e-4);
+    FAIL() << "no error";
+  } catch (const InvalidInputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no interaction of the plan found"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(path);
+}
+
 int main(int argc, char** argv) {
   ros::Time::init();  // the writer stamps the plan with ros::Time::now(); no master is used
   testing::InitGoogleTest(&argc, argv);

@@ -79,6 +79,11 @@ public:
   /// the display surface, or lands on the fixed region.
   ToolPath toolPath(const PlanEntry& entry) const;
 
+  /// Where the tool sphere's centre is at each step of the entry's path (step 0: touching the rest surface at
+  /// the contact, one tool radius outside it; then every indentation and drag step): the commands of the
+  /// coarse-simulator contract (docs/coarse_simulator.md).
+  std::vector<Eigen::Vector3d> toolCentres(const PlanEntry& entry) const;
+
   /// Coarse and fine solves of one interaction.
   InteractionResult simulate(const PlanEntry& entry) const;
   /// The fine solve of one interaction whose coarse half comes from another simulator: `coarseOnSurface`, the

@@ -18,6 +18,7 @@
 #include <sensor_msgs/PointCloud2.h>
 
 #include "deformation_enrichment/acquisition/recorded_coarse.hpp"
+#include "deformation_enrichment/acquisition/scene_acquisition.hpp"
 
 namespace rosbag {
 class Bag;
@@ -62,5 +63,20 @@ private:
 /// interaction begun and not ended or ended without a state, a line beyond the plan, or no interaction.
 /// With `displayVertices` < 0 only the plan, the simulator and which lines are complete are read (empty states).
 acquisition::RecordedCoarse readCoarseBag(const std::string& path, long displayVertices);
+
+/// A session recorded with the user's own tools (`rosbag record servo_cp mesh_state`, no driver; topics are
+/// matched by the end of their names) whose interactions are `plan`, in order. Interaction i ends at the
+/// first command after interaction i-1's end within `tolerance` of `finalCentres[i]` (its path's last tool
+/// centre, SceneAcquisition::toolCentres); its settled state is the last state before the next command
+/// that moves the tool away from there, or before the bag's end. An interaction whose end is not found has
+/// no state. The simulator is the publisher of the states. Throws as readCoarseBag for an unreadable bag,
+/// wrong types, point counts or frames and non-finite states, and when no interaction is found.
+acquisition::RecordedCoarse readSessionBag(const std::string& path, long displayVertices, const std::vector<acquisition::PlanEntry>& plan,
+                                           const std::vector<Eigen::Vector3d>& finalCentres, double tolerance);
+
+/// readSessionBag on `scene`'s display surface, each plan line's last tool centre on it, and a tolerance of
+/// 5 % of its tool radius.
+acquisition::RecordedCoarse readSessionBag(const std::string& path, const acquisition::SceneAcquisition& scene,
+                                           const std::vector<acquisition::PlanEntry>& plan);
 
 }  // namespace deformation_enrichment::ros_layer

@@ -182,4 +182,80 @@ acquisition::RecordedCoarse readCoarseBag(const std::string& path, long displayV
   return walk.recorded;
 }
 
+namespace {
+
+bool endsWith(const std::string& text, const std::string& suffix) {
+  return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// The bag-time window [end, next) of each plan line whose end command is found: the last state in it settled.
+std::map<std::size_t, std::pair<ros::Time, ros::Time>> sessionWindows(rosbag::Bag& bag, const std::vector<Eigen::Vector3d>& finals,
+                                                                       double tolerance, std::string& frame) {
+  std::vector<std::pair<ros::Time, Eigen::Vector3d>> commands;
+  for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
+    if (!endsWith(m.getTopic(), "servo_cp")) continue;
+    const auto pose = m.instantiate<geometry_msgs::PoseStamped>();
+    commands.emplace_back(m.getTime(), Eigen::Vector3d(pose->pose.position.x, pose->pose.position.y, pose->pose.position.z));
+    frame = pose->header.frame_id;
+  }
+  std::map<std::size_t, std::pair<ros::Time, ros::Time>> windows;
+  std::size_t cursor = 0;
+  for (std::size_t line = 0; line < finals.size(); ++line) {
+    std::size_t end = cursor;
+    while (end < commands.size() && (commands[end].second - finals[line]).norm() > tolerance) ++end;
+    if (end == commands.size()) continue;  // not found: the next line is looked for from the same place
+    std::size_t away = end + 1;
+    while (away < commands.size() && (commands[away].second - finals[line]).norm() <= tolerance) ++away;
+    windows[line] = {commands[end].first, away < commands.size() ? commands[away].first : ros::TIME_MAX};
+    cursor = away;
+  }
+  return windows;
+}
+
+}  // namespace
+
+acquisition::RecordedCoarse readSessionBag(const std::string& path, long displayVertices, const std::vector<acquisition::PlanEntry>& plan,
+                                           const std::vector<Eigen::Vector3d>& finalCentres, double tolerance) {
+  if (finalCentres.size() != plan.size())
+    throw InvalidInputError("readSessionBag: " + std::to_string(finalCentres.size()) + " final centres for " + std::to_string(plan.size()) +
+                            " plan lines");
+  rosbag::Bag bag;
+  try {
+    bag.open(path, rosbag::bagmode::Read);
+  } catch (const rosbag::BagException& e) {
+    throw IoError(path + ": cannot read the recording: " + e.what());
+  }
+  for (const rosbag::ConnectionInfo* c : rosbag::View(bag).getConnections()) {
+    const bool command = endsWith(c->topic, "servo_cp"), state = endsWith(c->topic, "mesh_state");
+    if ((command && c->datatype != "geometry_msgs/PoseStamped") || (state && c->datatype != "sensor_msgs/PointCloud2"))
+      throw InvalidInputError(path + ": topic " + c->topic + " holds " + c->datatype + ", expected " +
+                              (command ? "geometry_msgs/PoseStamped" : "sensor_msgs/PointCloud2"));
+  }
+  Walk walk{path, displayVertices, {}, {}, {}, {}, {}};
+  walk.recorded.path = path;
+  walk.recorded.plan = plan;
+  const auto windows = sessionWindows(bag, finalCentres, tolerance, walk.commandFrame);
+  for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
+    if (!endsWith(m.getTopic(), "mesh_state")) continue;
+    for (const auto& [line, window] : windows) {
+      if (m.getTime() < window.first || m.getTime() >= window.second) continue;
+      walk.open = line;
+      walk.state(*m.instantiate<sensor_msgs::PointCloud2>());
+      walk.recorded.settled[line] = *walk.last;
+      if (walk.recorded.simulator.empty()) walk.recorded.simulator = m.getCallerId();
+    }
+  }
+  if (walk.recorded.settled.empty())
+    walk.fail("no interaction of the plan found: no servo_cp command reaches a final tool centre of the plan within " +
+              std::to_string(tolerance) + " m, or no mesh_state follows one");
+  return walk.recorded;
+}
+
+acquisition::RecordedCoarse readSessionBag(const std::string& path, const acquisition::SceneAcquisition& scene,
+                                           const std::vector<acquisition::PlanEntry>& plan) {
+  std::vector<Eigen::Vector3d> finals;
+  for (const acquisition::PlanEntry& entry : plan) finals.push_back(scene.toolCentres(entry).back());
+  return readSessionBag(path, scene.fineSurface().numVertices(), plan, finals, 0.05 * scene.scene().tool.radius);
+}
+
 }  // namespace deformation_enrichment::ros_layer
