@@ -302,15 +302,16 @@ void ContactEnricher::enrich(const Eigen::Matrix3Xf& current, const std::vector<
 
 void ContactEnricher::placeStamp(const ContactDescription& description, const cv::Mat& stamp, double radius, int layers,
                                  SurfaceEnrichment& out) {
-  stampScratch_.resize(1);
-  ContactStamp& placed = stampScratch_[0];
-  placed.contact = description.p;
-  placed.frame = description.B;
-  placed.rotation = description.R;
-  placed.stamp = stamp;
-  placed.radius = radius;
-  placed.layers = layers;
-  mapper_.map(stampScratch_, out);
+  // A list of its own, not stampScratch_: the blend writes into stampScratch_'s stamps, and cv::Mat shares
+  // its data on assignment, so a later enrich() would overwrite the caller's stamp (a set's own, say).
+  std::vector<ContactStamp> placed(1);
+  placed[0].contact = description.p;
+  placed[0].frame = description.B;
+  placed[0].rotation = description.R;
+  placed[0].stamp = stamp;
+  placed[0].radius = radius;
+  placed[0].layers = layers;
+  mapper_.map(placed, out);
 }
 
 template <typename Positions>

@@ -32,6 +32,7 @@ namespace {
 
 struct Settings {
   std::string scene = "slab", set, contacts, learningCurve, densitySource = "auto", blend = "regression", coarseBag;
+  std::vector<std::string> alsoSets;
   bool noFit = false, correlationOnly = false, curves = false, noGain = false, open = false;
   const enrichment::ContactEnricherOptions defaults;
   double gain = 1.0, rimBand = defaults.rimBand, sigmaRho = 0.0, sigmaU = 0.0, shellThickness = 0.0;
@@ -50,6 +51,8 @@ void addOptions(CLI::App& app, Settings& s) {
                  "bag (its plan) or a session of servo_cp and mesh_state (the plan from --contacts); settled states as the coarse half")
       ->check(CLI::ExistingFile);
 #endif
+  app.add_option("--also-examples", s.alsoSets, "more example sets scored on the same held-out interactions (the same scene, "
+                 "descriptors and stamp radius as --examples); one row each under \"also\"");
   app.add_option("--held-out", s.heldOut, "random held-out interactions without --contacts")->check(CLI::PositiveNumber);
   app.add_option("--seed", s.seed, "seed of the random held-out interactions");
   app.add_option("--learning-curve", s.learningCurve,
@@ -265,6 +268,34 @@ json learningCurve(Evaluation& ev, const std::vector<acquisition::HeldOutCase>& 
   return rows;
 }
 
+// --also-examples: each set scored on the same cases with the same enricher, which must describe contacts as
+// the main set does (else its descriptors would not be comparable).
+json otherSets(Evaluation& ev, const std::vector<acquisition::HeldOutCase>& cases) {
+  json rows = json::array();
+  const enrichment::ContactEnricherOptions& main = ev.options;
+  for (const std::string& path : ev.settings.alsoSets) {
+    const examples::ExampleSet other = examples::loadExampleSet(path);
+    const enrichment::ContactEnricherOptions o = enrichment::optionsFor(other, ev.settings.defaults);
+    const auto& a = main.descriptors;
+    const auto& b = o.descriptors;
+    if (a.window.scale != b.window.scale || a.window.cutoff != b.window.cutoff || a.window.quadrature != b.window.quadrature ||
+        a.siteOrder != b.siteOrder || a.deformationOrder != b.deformationOrder || main.sampleSpacing != o.sampleSpacing ||
+        main.stampRadius != o.stampRadius)
+      throw InvalidInputError("--also-examples " + path + ": its descriptors or stamp radius differ from those of " + ev.settings.set);
+    const double similarity = other.metadata.provenance ? enrichment::materialSimilarity(other.metadata.provenance->scene, ev.scene) : 1.0;
+    if (similarity != ev.similarity) throw InvalidInputError("--also-examples " + path + ": another material than " + ev.settings.set);
+    ev.enricher->setExamples(other, ev.blenderFor(other));
+    const acquisition::HeldOutScore score = acquisition::scoreHeldOut(*ev.enricher, cases, ev.settings.repetitions);
+    json row = summary(score);
+    row["example_set"] = path;
+    row["examples"] = other.examples.size();
+    rows.push_back(row);
+    std::cerr << path << ": mean ratio " << score.meanRatio() << ", worst " << score.worstRatio() << "\n";
+  }
+  ev.enricher->setExamples(ev.set, ev.blenderFor(ev.set));
+  return rows;
+}
+
 // Run time against error: stamp resolutions and Hermite orders of the whole set.
 void variantCurves(Evaluation& ev, const std::vector<acquisition::HeldOutCase>& cases, json& out) {
   const int repetitions = ev.settings.repetitions;
@@ -343,6 +374,7 @@ json evaluate(Evaluation& ev) {
   const acquisition::HeldOutScore score = acquisition::scoreHeldOut(*ev.enricher, cases, s.repetitions, acquisition::Bounds::Compute);
   json out = report(ev, contacts, score, perContact(cases, score));
   if (!sizes.empty()) out["learning_curve"] = learningCurve(ev, cases, sizes);
+  if (!s.alsoSets.empty()) out["also"] = otherSets(ev, cases);
   if (s.curves) variantCurves(ev, cases, out);
   return out;
 }

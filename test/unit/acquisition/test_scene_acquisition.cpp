@@ -104,6 +104,28 @@ TEST(SceneAcquisition, FineDetailIsCapturedAndReproducedByTheEnricher) {
   EXPECT_LT(score.meanOwnStampRatio(), 0.15);
 }
 
+TEST(SceneAcquisition, HeldOutScoresDependNeitherOnRepetitionsNorOnTheBounds) {
+  // The bounds place the set's own stamps; the enrichment of the next case must not write into them.
+  acquisition::SceneAcquisition acq(tiny());
+  std::vector<acquisition::PlanEntry> plan(2), held(2);
+  plan[0].point = Eigen::Vector3d(0.0, 0.0, 0.02), plan[0].depth = 0.003;
+  plan[1].point = Eigen::Vector3d(0.012, 0.004, 0.02), plan[1].depth = 0.002, plan[1].drag = Eigen::Vector3d(0.003, 0.0, 0.0);
+  held[0].point = Eigen::Vector3d(0.004, 0.002, 0.02), held[0].depth = 0.0025;
+  held[1].point = Eigen::Vector3d(0.008, -0.003, 0.02), held[1].depth = 0.003;
+  examples::ExampleSet set;
+  set.metadata.scene = "slab";
+  for (const auto& e : plan) set.examples.push_back(acq.makeExample(e, acq.simulate(e)));
+  std::vector<cv::Mat> stamps;
+  for (const auto& e : set.examples) stamps.push_back(e.stamp.clone());
+  enrichment::ContactEnricher enricher(acq.fineSurface(), acquisition::enricherOptions(acq.scene()));
+  enricher.setExamples(set, enrichment::ExampleBlenderOptions());
+  const std::vector<acquisition::HeldOutCase> cases = acquisition::simulateHeldOut(acq, held);
+  const double plain = acquisition::scoreHeldOut(enricher, cases, 1).meanRatio();
+  EXPECT_EQ(acquisition::scoreHeldOut(enricher, cases, 3, acquisition::Bounds::Compute).meanRatio(), plain);
+  EXPECT_EQ(acquisition::scoreHeldOut(enricher, cases, 1).meanRatio(), plain);
+  for (std::size_t i = 0; i < stamps.size(); ++i) EXPECT_EQ(cv::norm(enricher.blender()->stamps()[i], stamps[i], cv::NORM_INF), 0.0);
+}
+
 TEST(SceneAcquisition, AcquiredSetResumesWithoutRecomputing) {
   auto o = tiny();
   acquisition::SceneAcquisition acq(o);
