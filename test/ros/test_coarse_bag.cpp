@@ -6,11 +6,14 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/ros/coarse_bag.hpp"
 #include "deformation_enrichment/ros/conversions.hpp"
+#include "../unit/acquisition/tiny_slab.hpp"
 
 using namespace deformation_enrichment;
 
@@ -159,6 +162,41 @@ TEST(CoarseBag, ASessionOfTheUsersOwnToolsIsCutAtEachInteractionsLastCommand) {
   } catch (const InvalidInputError& e) {
     EXPECT_NE(std::string(e.what()).find("no interaction of the plan found"), std::string::npos) << e.what();
   }
+  std::filesystem::remove(path);
+}
+
+TEST(CoarseBag, TheSameRecordingGivesTheSameSetByteForByte) {
+  // A recording of the small slab's own coarse states, acquired twice from the bag.
+  acquisition::SceneAcquisition acq(de_test::tinySlab());
+  std::vector<acquisition::PlanEntry> p(2);
+  p[0].point = Eigen::Vector3d(0.0, 0.0, 0.02), p[0].depth = 0.003;
+  p[1].point = Eigen::Vector3d(0.01, 0.005, 0.02), p[1].depth = 0.002, p[1].drag = Eigen::Vector3d(0.003, 0.0, 0.0);
+  const std::string path = temporary("own.bag");
+  {
+    ros_layer::CoarseBagWriter writer(path, p, "own");
+    for (std::size_t line = 0; line < p.size(); ++line) {
+      std_msgs::Header header;
+      header.frame_id = "slab";
+      header.stamp = ros::Time(10.0 + line);
+      ros_layer::SettledStep s;
+      s.command.header = header;
+      s.state = ros_layer::cloudFromPositions(acq.simulate(p[line]).coarseOnFine.cast<float>(), header);
+      writer.write(line, {s});
+    }
+  }
+  const acquisition::RecordedCoarse recorded = ros_layer::readCoarseBag(path, acq.fineSurface().numVertices());
+  const std::string a = temporary("set_a"), b = temporary("set_b");
+  for (const std::string& dir : {a, b}) {
+    std::filesystem::remove_all(dir);
+    acq.acquireSet(recorded.plan, dir, nullptr, {}, &recorded);
+  }
+  for (const char* file : {"manifest.json", "stamps.bin"}) {
+    std::ifstream x(a + "/" + file, std::ios::binary), y(b + "/" + file, std::ios::binary);
+    const std::string bytesA((std::istreambuf_iterator<char>(x)), {}), bytesB((std::istreambuf_iterator<char>(y)), {});
+    EXPECT_FALSE(bytesA.empty());
+    EXPECT_EQ(bytesA, bytesB) << file << " differs";
+  }
+  for (const std::string& dir : {a, b}) std::filesystem::remove_all(dir);
   std::filesystem::remove(path);
 }
 

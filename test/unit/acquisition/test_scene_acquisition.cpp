@@ -15,24 +15,13 @@
 #include "deformation_enrichment/examples/example_set_io.hpp"
 #include "deformation_enrichment/enrichment/stamp.hpp"
 #include "deformation_enrichment/error.hpp"
+#include "tiny_slab.hpp"
 
 using namespace deformation_enrichment;
 
 namespace {
 
-// A small slab scene: coarse 6 x 6 x 1 (+1 skin layer), fine 12 x 12 x 2 (+1), one indent and drag step.
-scene_file::SceneDescription tiny() {
-  scene_file::SceneDescription d = scene_file::readSceneFile(scene_file::findSceneFile("slab"));
-  d.procedural->coarseCells = Eigen::Vector3i(6, 6, 1);
-  d.procedural->fineCells = Eigen::Vector3i(12, 12, 2);
-  d.procedural->fineSkinLayers = 1;
-  d.solve.indentSteps = 1;
-  d.solve.dragSteps = 1;
-  d.stamp.resolution = 16;
-  d.descriptors.windowScale = 0.008;
-  d.descriptors.sampleSpacing = 0.004;
-  return d;
-}
+scene_file::SceneDescription tiny() { return de_test::tinySlab(); }
 
 }  // namespace
 
