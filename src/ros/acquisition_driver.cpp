@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "deformation_enrichment/acquisition/plan_generation.hpp"
 #include "deformation_enrichment/acquisition/scene_acquisition.hpp"
@@ -41,6 +42,7 @@ public:
       : settings_(std::move(settings)), scene_(scene), vertices_(scene.fineSurface().numVertices()) {
     commands_ = nh.advertise<geometry_msgs::PoseStamped>("servo_cp", 10);
     states_ = nh.subscribe("mesh_state", 10, &Driver::onState, this);
+    measured_ = nh.subscribe("measured_cp", 10, &Driver::onMeasured, this);
     reset_ = nh.serviceClient<std_srvs::Empty>("reset");
   }
 
@@ -97,13 +99,21 @@ private:
     nonFinite_ = nonFinite_ || !positions.allFinite();
     motion_ = previous_.cols() == positions.cols() ? (positions - previous_).colwise().norm().maxCoeff()
                                                    : std::numeric_limits<float>::infinity();
-    quiet_ = motion_ < settings_.settleTolerance ? quiet_ + 1 : 0;
+    // A simulator that moves its tool towards the command over several states (and says where it is on
+    // measured_cp) is not settled while the tool is on its way, however still the tissue.
+    quiet_ = motion_ < settings_.settleTolerance && toolArrived() ? quiet_ + 1 : 0;
     previous_ = positions;
     latest_ = cloud;
     ++received_;
     if (publisher_.empty()) publisher_ = event.getPublisherName(), frame_ = cloud.header.frame_id;
     overhead_ += seconds(start);
   }
+
+  void onMeasured(const geometry_msgs::PoseStamped& pose) {
+    toolAt_ = Eigen::Vector3d(pose.pose.position.x, pose.pose.position.y, pose.pose.position.z);
+  }
+
+  bool toolArrived() const { return !toolAt_ || !commanded_ || (*toolAt_ - *commanded_).norm() <= settings_.settleTolerance; }
 
   void awaitFirstState() {
     const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(30.0);
@@ -129,6 +139,7 @@ private:
   // Publishes `pose` and waits until ~settle_states consecutive states each moved less than the tolerance.
   // Returns an empty string, or why the step failed.
   std::string settle(const geometry_msgs::PoseStamped& pose, de::ros_layer::SettledStep* step) {
+    commanded_ = Eigen::Vector3d(pose.pose.position.x, pose.pose.position.y, pose.pose.position.z);
     commands_.publish(pose);
     const std::uint64_t first = received_;
     quiet_ = 0;
@@ -184,7 +195,8 @@ private:
   const de::acquisition::SceneAcquisition& scene_;
   const long vertices_;
   ros::Publisher commands_;
-  ros::Subscriber states_;
+  ros::Subscriber states_, measured_;
+  std::optional<Eigen::Vector3d> toolAt_, commanded_;  // measured_cp (when the simulator publishes it), servo_cp
   ros::ServiceClient reset_;
   sensor_msgs::PointCloud2 latest_;
   Eigen::Matrix3Xf previous_;
