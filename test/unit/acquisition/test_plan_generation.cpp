@@ -6,22 +6,16 @@
 #include "deformation_enrichment/acquisition/plan_generation.hpp"
 #include "deformation_enrichment/examples/example_set_io.hpp"
 #include "deformation_enrichment/error.hpp"
+#include "tiny_slab.hpp"
 
 using namespace deformation_enrichment;
 
 namespace {
 
-// The slab scene at a small resolution, one indent and one drag step.
+// The small test slab with 8-node stamps.
 scene_file::SceneDescription smallSlab() {
-  scene_file::SceneDescription d = scene_file::readSceneFile(scene_file::findSceneFile("slab"));
-  d.procedural->coarseCells = Eigen::Vector3i(6, 6, 1);
-  d.procedural->fineCells = Eigen::Vector3i(12, 12, 2);
-  d.procedural->fineSkinLayers = 1;
-  d.solve.indentSteps = 1;
-  d.solve.dragSteps = 1;
+  scene_file::SceneDescription d = de_test::tinySlab();
   d.stamp.resolution = 8;
-  d.descriptors.windowScale = 0.008;
-  d.descriptors.sampleSpacing = 0.004;
   return d;
 }
 
