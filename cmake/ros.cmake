@@ -146,6 +146,11 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(test_coarse_bag deformation_enrichment_coarse_bag GTest::gtest)
   add_test(NAME test_coarse_bag COMMAND test_coarse_bag
     --gtest_output=xml:${CMAKE_BINARY_DIR}/test_results/${PROJECT_NAME}/gtest-test_coarse_bag.xml)
+  # acquisition_driver against a stand-in simulator (the contract without physics).
+  add_executable(fake_coarse_sim test/ros/fake_coarse_sim.cpp)
+  target_compile_options(fake_coarse_sim PRIVATE ${DE_WARNINGS})
+  target_link_libraries(fake_coarse_sim deformation_enrichment_ros)
+  add_rostest(test/ros/acquisition_driver.test DEPENDENCIES fake_coarse_sim acquisition_driver de_make_examples)
   de_rostest_gtest(test_shape_space_server test/ros/shape_space_server.test SOURCES test/ros/test_shape_space_server.cpp
     test/unit/shape_space/real_sequences.hpp
     DEPENDS ${DE_NODE_TARGETS})
