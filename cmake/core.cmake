@@ -9,6 +9,7 @@
 #   deformation_enrichment_simulation   elasticity, acquisition -> runtime (acquisition describes examples with
 #                                       the run-time code)
 #   deformation_enrichment_shape_space  shape_space                 -> geometry
+#   deformation_enrichment_bullet_engine bullet_engine              -> geometry (Bullet's deformable bodies)
 #
 # Dependencies point one way: a layer links only the layers below it, so an include of a higher layer (the
 # enrichment node including the simulator, say) fails to link.
@@ -29,7 +30,8 @@ set(DE_LAYER_descriptors descriptors)
 set(DE_LAYER_runtime scene_file scenes examples enrichment)
 set(DE_LAYER_simulation elasticity acquisition)
 set(DE_LAYER_shape_space shape_space)
-set(DE_LAYERS geometry descriptors runtime simulation shape_space)
+set(DE_LAYER_bullet_engine bullet_engine)
+set(DE_LAYERS geometry descriptors runtime simulation shape_space bullet_engine)
 set(DE_CORE_LIBRARIES "")
 
 # A shared library must resolve every symbol it uses from the libraries it links, so a call into a layer it
@@ -89,6 +91,12 @@ target_compile_definitions(deformation_enrichment_runtime PRIVATE
   DE_INSTALL_SCENE_DIR="${CMAKE_INSTALL_PREFIX}/share/${PROJECT_NAME}/config/scenes")
 de_add_layer(simulation deformation_enrichment_runtime)
 de_add_layer(shape_space deformation_enrichment_geometry)
+# Bullet's deformable bodies (zlib licence), double precision, private: no public header includes Bullet. The
+# coarse simulator that stands for a user's own (bullet_coarse_sim_node) is its only user.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(BULLET REQUIRED IMPORTED_TARGET bullet-float64)
+de_add_layer(bullet_engine deformation_enrichment_geometry)
+target_link_libraries(deformation_enrichment_bullet_engine PRIVATE PkgConfig::BULLET)
 target_link_libraries(deformation_enrichment_shape_space PRIVATE ${CMAKE_DL_LIBS})  # blas_threads.cpp: dlsym
 if(OpenMP_CXX_FOUND)
   foreach(layer descriptors runtime simulation shape_space)
@@ -197,10 +205,12 @@ endif()
 # The layering as a test on the built libraries (ELF dependencies); the ROS layer adds its binaries.
 if(DE_BUILD_TESTS)
   set(DE_LAYER_CHECKS
-    $<TARGET_FILE:deformation_enrichment_geometry>=descriptors,runtime,simulation,shape_space
-    $<TARGET_FILE:deformation_enrichment_descriptors>=runtime,simulation,shape_space
-    $<TARGET_FILE:deformation_enrichment_runtime>=simulation,shape_space
-    $<TARGET_FILE:deformation_enrichment_shape_space>=descriptors,runtime,simulation)
+    $<TARGET_FILE:deformation_enrichment_geometry>=descriptors,runtime,simulation,shape_space,bullet_engine
+    $<TARGET_FILE:deformation_enrichment_descriptors>=runtime,simulation,shape_space,bullet_engine
+    $<TARGET_FILE:deformation_enrichment_runtime>=simulation,shape_space,bullet_engine
+    $<TARGET_FILE:deformation_enrichment_simulation>=shape_space,bullet_engine
+    $<TARGET_FILE:deformation_enrichment_shape_space>=descriptors,runtime,simulation,bullet_engine
+    $<TARGET_FILE:deformation_enrichment_bullet_engine>=descriptors,runtime,simulation,shape_space)
   if(DE_CORE_ONLY)
     add_test(NAME layers COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/test/layers/check_layers.py ${DE_LAYER_CHECKS})
   endif()

@@ -16,7 +16,7 @@ catkin_package(
   INCLUDE_DIRS include
   LIBRARIES deformation_enrichment_geometry deformation_enrichment_descriptors deformation_enrichment_runtime
             deformation_enrichment_simulation deformation_enrichment_shape_space deformation_enrichment_ros
-            deformation_enrichment_coarse_bag
+            deformation_enrichment_coarse_bag deformation_enrichment_bullet_engine
   CATKIN_DEPENDS roscpp message_runtime std_msgs std_srvs geometry_msgs sensor_msgs visualization_msgs shape_msgs
                  pcl_msgs diagnostic_msgs diagnostic_updater tf2 tf2_ros tf2_eigen tf2_geometry_msgs
                  pcl_conversions urdf nodelet pluginlib dynamic_reconfigure)
@@ -127,9 +127,9 @@ if(CATKIN_ENABLE_TESTING)
     bash ${PROJECT_SOURCE_DIR}/test/ros/catkin_workspace.sh ${PROJECT_SOURCE_DIR})
   set_tests_properties(catkin_workspace PROPERTIES TIMEOUT 1800)
   add_test(NAME layers COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/test/layers/check_layers.py ${DE_LAYER_CHECKS}
-    $<TARGET_FILE:deformation_enrichment_ros>=simulation,shape_space
-    $<TARGET_FILE:deformation_enrichment_nodelets>=simulation,shape_space
-    $<TARGET_FILE:enrichment_node>=simulation,shape_space)
+    $<TARGET_FILE:deformation_enrichment_ros>=simulation,shape_space,bullet_engine
+    $<TARGET_FILE:deformation_enrichment_nodelets>=simulation,shape_space,bullet_engine
+    $<TARGET_FILE:enrichment_node>=simulation,shape_space,bullet_engine)
   de_rostest_gtest(test_recorded_sequence test/ros/recorded_sequence.test SOURCES test/ros/test_recorded_sequence.cpp
     DEPENDS enrichment_node)
   de_rostest_gtest(test_live_stream_node test/ros/live_stream.test SOURCES test/ros/test_live_stream_node.cpp
@@ -154,4 +154,12 @@ if(CATKIN_ENABLE_TESTING)
   de_rostest_gtest(test_shape_space_server test/ros/shape_space_server.test SOURCES test/ros/test_shape_space_server.cpp
     test/unit/shape_space/real_sequences.hpp
     DEPENDS ${DE_NODE_TARGETS})
+  # The Bullet coarse simulator speaks the contract of docs/coarse_simulator.md.
+  de_rostest_gtest(test_bullet_coarse_sim test/ros/bullet_coarse_sim.test SOURCES test/ros/test_bullet_coarse_sim.cpp
+    DEPENDS bullet_coarse_sim_node)
+  # Examples made against Bullet over ROS beat the own-SNH set on Bullet's held-out states.
+  add_rostest(test/ros/coarse_simulator.test
+    DEPENDENCIES bullet_coarse_sim_node acquisition_driver de_make_examples de_evaluate)
+  set_tests_properties(_ctest_${PROJECT_NAME}_rostest_test_ros_coarse_simulator.test PROPERTIES
+    FIXTURES_REQUIRED slab_auto_set ENVIRONMENT DE_TEST_SLAB_AUTO_SET=${DE_TEST_SLAB_AUTO_SET})
 endif()

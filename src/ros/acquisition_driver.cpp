@@ -115,11 +115,15 @@ private:
 
   bool toolArrived() const { return !toolAt_ || !commanded_ || (*toolAt_ - *commanded_).norm() <= settings_.settleTolerance; }
 
+  // The first state, and the simulator listening on servo_cp: a command published before that connection
+  // exists is lost, and its step would time out.
   void awaitFirstState() {
     const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(30.0);
-    while (ros::ok() && received_ == 0) {
+    while (ros::ok() && (received_ == 0 || commands_.getNumSubscribers() == 0)) {
       if (!fault_.empty()) throw Stop(fault_);
-      if (ros::WallTime::now() > deadline) throw Stop("no mesh_state from the simulator in 30 s (is it running, and remapped?)");
+      if (ros::WallTime::now() > deadline)
+        throw Stop(received_ == 0 ? "no mesh_state from the simulator in 30 s (is it running, and remapped?)"
+                                  : "no subscriber to servo_cp in 30 s (is the simulator's command topic remapped?)");
       ros::spinOnce();
       ros::WallDuration(0.001).sleep();
     }
