@@ -1,15 +1,23 @@
 // Demo scene: a scene file (default: the slab of the default example set, 0.10 x 0.10 x 0.02 m, 1 mm stiff
-// skin, bottom fixed) played by its coarse Stable Neo-Hookean simulation. A scripted tool indents and drags
-// at held-out contacts (~contacts_file, or random ones on the touchable surface), holds, and lifts off.
-// At start-up the coarse quasi-static path of every tap is solved once (a few seconds); the node then plays
-// it at `rate`, interpolating between solved steps, and publishes the latched rest mesh (the display surface
-// the examples were acquired on), the coarse states carried onto it, the tool's contacts, and its frame
-// (~frame_id, default slab) as a static tf child of ~parent_frame (default world; empty: no tf).
+// skin, bottom fixed) touched by a scripted tool that indents and drags at held-out contacts
+// (~contacts_file, or random ones on the touchable surface), holds, and lifts off; it publishes the tool's
+// contacts and its frame (~frame_id, default slab) as a static tf child of ~parent_frame (default world;
+// empty: no tf). The coarse states (~coarse):
+// - snh (default): the scene's coarse Stable Neo-Hookean simulation. At start-up the coarse quasi-static path
+//   of every tap is solved once (a few seconds); the node then plays it at `rate`, interpolating between
+//   solved steps, and publishes the latched rest mesh (the display surface the examples were acquired on)
+//   and the coarse states carried onto it;
+// - simulator: a coarse simulator running beside it (docs/coarse_simulator.md, e.g. bullet_coarse_sim_node)
+//   publishes the states and the rest mesh; this node commands its tool on servo_cp.
+#include <geometry_msgs/PoseStamped.h>
 #include <ros/ros.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <optional>
+#include <stdexcept>
 
 #include "deformation_enrichment/ToolContactArray.h"
 #include "deformation_enrichment/acquisition/plan_generation.hpp"
@@ -78,63 +86,57 @@ geometry_msgs::TransformStamped frameTransform(const std::string& parent, const 
   return transform;
 }
 
-}  // namespace
+struct DemoSettings {
+  std::string frame, parentFrame, setPath, sceneName, contactsFile, coarse;
+  double rate = 30.0, period = 3.0;
+  int indentSteps = 6, dragSteps = 6, seed = 7;
+};
 
-int main(int argc, char** argv) {
-  ros::init(argc, argv, "demo_scene");
-  ros::NodeHandle nh, pnh("~");
-  const std::string frame = pnh.param<std::string>("frame_id", "slab");
-  const std::string parentFrame = pnh.param<std::string>("parent_frame", "world");
-  const double rate = pnh.param("rate", 30.0);
-  const double period = pnh.param("tap_period", 3.0);
-  const int indentSteps = pnh.param("indent_steps", 6), dragSteps = pnh.param("drag_steps", 6);
-  const std::string setPath = pnh.param<std::string>("example_set", "");
-  const std::string sceneName = pnh.param<std::string>("scene", "slab");
-  const std::string contactsFile = pnh.param<std::string>("contacts_file", "");
-  const int seed = pnh.param("seed", 7);
-  if (!(rate > 0.0) || !std::isfinite(rate) || !(period > 0.0) || !std::isfinite(period)) {
-    ROS_FATAL("demo scene: ~rate (%g) and ~tap_period (%g) must be positive and finite", rate, period);
-    return 1;
+DemoSettings readSettings(ros::NodeHandle& pnh) {
+  DemoSettings s;
+  s.frame = pnh.param<std::string>("frame_id", "slab");
+  s.parentFrame = pnh.param<std::string>("parent_frame", "world");
+  s.rate = pnh.param("rate", s.rate);
+  s.period = pnh.param("tap_period", s.period);
+  s.indentSteps = pnh.param("indent_steps", s.indentSteps);
+  s.dragSteps = pnh.param("drag_steps", s.dragSteps);
+  s.setPath = pnh.param<std::string>("example_set", "");
+  s.sceneName = pnh.param<std::string>("scene", "slab");
+  s.contactsFile = pnh.param<std::string>("contacts_file", "");
+  s.seed = pnh.param("seed", s.seed);
+  s.coarse = pnh.param<std::string>("coarse", "snh");
+  if (!(s.rate > 0.0) || !std::isfinite(s.rate) || !(s.period > 0.0) || !std::isfinite(s.period))
+    throw std::runtime_error("~rate (" + std::to_string(s.rate) + ") and ~tap_period (" + std::to_string(s.period) +
+                             ") must be positive and finite");
+  if (s.coarse != "snh" && s.coarse != "simulator")
+    throw std::runtime_error("~coarse must be snh or simulator, got '" + s.coarse + "'");
+  return s;
+}
+
+// The scene, as the example set recorded it for a procedural scene (resolutions, materials, tool), so the
+// states match its examples; scenes with mesh files are taken from their file.
+std::unique_ptr<de::acquisition::SceneAcquisition> loadScene(const DemoSettings& s) {
+  de::scene_file::SceneDescription description = de::scene_file::readSceneFile(de::scene_file::findSceneFile(s.sceneName));
+  if (!s.setPath.empty()) {
+    const auto provenance = de::examples::loadExampleSet(s.setPath).metadata.provenance;
+    if (provenance && provenance->scene.procedural && description.procedural && provenance->scene.name == description.name)
+      description = provenance->scene;
   }
+  return std::make_unique<de::acquisition::SceneAcquisition>(description);
+}
 
-  std::vector<Tap> taps;
-  std::unique_ptr<de::acquisition::SceneAcquisition> scene;
-  try {
-    de::scene_file::SceneDescription description = de::scene_file::readSceneFile(de::scene_file::findSceneFile(sceneName));
-    // A procedural scene as the example set recorded it (resolutions, materials, tool), so the states match
-    // its examples; scenes with mesh files are taken from their file.
-    if (!setPath.empty()) {
-      const auto provenance = de::examples::loadExampleSet(setPath).metadata.provenance;
-      if (provenance && provenance->scene.procedural && description.procedural && provenance->scene.name == description.name)
-        description = provenance->scene;
-    }
-    scene = std::make_unique<de::acquisition::SceneAcquisition>(description);
-    const auto entries = contactsFile.empty() ? de::acquisition::randomContacts(*scene, 4, static_cast<unsigned>(seed))
-                                              : de::acquisition::readPlan(contactsFile);
-    for (const de::acquisition::PlanEntry& entry : entries) taps.push_back(solveTap(*scene, entry, indentSteps, dragSteps));
-  } catch (const std::exception& e) {
-    ROS_FATAL("demo scene: %s", e.what());
-    return 1;
-  }
-  const de::mesh::TriangleMesh& rest = scene->fineSurface();
-
-  std_msgs::Header header;
-  header.frame_id = frame;
-  header.stamp = ros::Time::now();
+// Plays the coarse SNH paths of the taps: the rest mesh, the states and the tool's contacts.
+void playSolvedTaps(ros::NodeHandle& nh, const de::acquisition::SceneAcquisition& scene, const std::vector<Tap>& taps,
+                    const DemoSettings& settings, std_msgs::Header header) {
   ros::Publisher restPub = nh.advertise<pcl_msgs::PolygonMesh>("rest_mesh", 1, /*latch=*/true);
   ros::Publisher statePub = nh.advertise<sensor_msgs::PointCloud2>("mesh_state", 2);
   ros::Publisher contactsPub = nh.advertise<de::ToolContactArray>("contacts", 2);
-  restPub.publish(de::ros_layer::messageFromTriangleMesh(rest, header));
-  tf2_ros::StaticTransformBroadcaster frames;
-  if (!parentFrame.empty() && parentFrame != frame) frames.sendTransform(frameTransform(parentFrame, header));
-  ROS_INFO("demo scene %s: %ld surface vertices; coarse SNH paths of %zu taps solved; one tap every %.1f s",
-           sceneName.c_str(), static_cast<long>(rest.numVertices()), taps.size(), period);
-
+  restPub.publish(de::ros_layer::messageFromTriangleMesh(scene.fineSurface(), header));
   const ros::Time start = ros::Time::now();
-  ros::Rate loop(rate);
+  ros::Rate loop(settings.rate);
   while (ros::ok()) {
     header.stamp = ros::Time::now();
-    const double t = (header.stamp - start).toSec() / period;
+    const double t = (header.stamp - start).toSec() / settings.period;
     const Tap& tap = taps[static_cast<std::size_t>(t) % taps.size()];
     const int steps = static_cast<int>(tap.path.size()) - 1;
     const double s = pathParameter(t - std::floor(t), steps);
@@ -153,5 +155,90 @@ int main(int argc, char** argv) {
     ros::spinOnce();
     loop.sleep();
   }
+}
+
+// Scripts the tool of a coarse simulator that runs on its own (docs/coarse_simulator.md; e.g.
+// bullet_coarse_sim_node, which publishes the states and the rest mesh): the tool sphere's centre on
+// servo_cp along each tap's path, lifted clear between taps, and the contact at the sphere's tip where
+// measured_cp says the tool is (the simulator may still be moving it towards the command).
+void scriptSimulatorTool(ros::NodeHandle& nh, const de::acquisition::SceneAcquisition& scene,
+                         const std::vector<de::acquisition::PlanEntry>& entries, const DemoSettings& settings,
+                         std_msgs::Header header) {
+  const double radius = scene.scene().tool.radius;
+  std::vector<std::vector<Eigen::Vector3d>> centres;
+  std::vector<de::acquisition::ToolPath> paths;
+  for (const de::acquisition::PlanEntry& entry : entries) {
+    centres.push_back(scene.toolCentres(entry));
+    paths.push_back(scene.toolPath(entry));
+  }
+  ros::Publisher commandPub = nh.advertise<geometry_msgs::PoseStamped>("servo_cp", 2);
+  ros::Publisher contactsPub = nh.advertise<de::ToolContactArray>("contacts", 2);
+  std::optional<Eigen::Vector3d> measured;
+  ros::Subscriber measuredSub = nh.subscribe<geometry_msgs::PoseStamped>("measured_cp", 2, [&](const geometry_msgs::PoseStampedConstPtr& pose) {
+    measured = Eigen::Vector3d(pose->pose.position.x, pose->pose.position.y, pose->pose.position.z);
+  });
+  const ros::Time start = ros::Time::now();
+  ros::Rate loop(settings.rate);
+  while (ros::ok()) {
+    header.stamp = ros::Time::now();
+    const double t = (header.stamp - start).toSec() / settings.period;
+    const std::size_t tap = static_cast<std::size_t>(t) % centres.size();
+    const std::vector<Eigen::Vector3d>& c = centres[tap];
+    const de::acquisition::ToolPath& path = paths[tap];
+    const int steps = static_cast<int>(c.size()) - 1;
+    const double s = pathParameter(t - std::floor(t), steps);
+    const int k = std::min(static_cast<int>(s), steps - 1);
+    const double f = s - k;
+    const Eigen::Vector3d centre = s > 0.0 ? Eigen::Vector3d((1.0 - f) * c[static_cast<std::size_t>(k)] + f * c[static_cast<std::size_t>(k + 1)])
+                                           : Eigen::Vector3d(c.front() - std::max(radius, 2.0 * path.depth) * path.inward);
+    geometry_msgs::PoseStamped command;
+    command.header = header;
+    command.pose.position.x = centre.x();
+    command.pose.position.y = centre.y();
+    command.pose.position.z = centre.z();
+    command.pose.orientation.w = 1.0;
+    commandPub.publish(command);
+    de::ToolContactArray contacts;
+    contacts.header = header;
+    if (s > 0.0) contacts.contacts.push_back(toolContact(header, measured.value_or(centre) + radius * path.inward, path.inward));
+    contactsPub.publish(contacts);
+    ros::spinOnce();
+    loop.sleep();
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "demo_scene");
+  ros::NodeHandle nh, pnh("~");
+  DemoSettings settings;
+  std::vector<Tap> taps;
+  std::vector<de::acquisition::PlanEntry> entries;
+  std::unique_ptr<de::acquisition::SceneAcquisition> scene;
+  try {
+    settings = readSettings(pnh);
+    scene = loadScene(settings);
+    entries = settings.contactsFile.empty() ? de::acquisition::randomContacts(*scene, 4, static_cast<unsigned>(settings.seed))
+                                            : de::acquisition::readPlan(settings.contactsFile);
+    if (settings.coarse == "snh")
+      for (const de::acquisition::PlanEntry& entry : entries) taps.push_back(solveTap(*scene, entry, settings.indentSteps, settings.dragSteps));
+  } catch (const std::exception& e) {
+    ROS_FATAL("demo scene: %s", e.what());
+    return 1;
+  }
+  std_msgs::Header header;
+  header.frame_id = settings.frame;
+  header.stamp = ros::Time::now();
+  tf2_ros::StaticTransformBroadcaster frames;
+  if (!settings.parentFrame.empty() && settings.parentFrame != settings.frame)
+    frames.sendTransform(frameTransform(settings.parentFrame, header));
+  ROS_INFO("demo scene %s: %ld surface vertices; %zu taps, one every %.1f s; coarse states from %s", settings.sceneName.c_str(),
+           static_cast<long>(scene->fineSurface().numVertices()), entries.size(), settings.period,
+           settings.coarse == "snh" ? "the coarse SNH paths solved at start-up" : "the simulator (servo_cp out, measured_cp in)");
+  if (settings.coarse == "snh")
+    playSolvedTaps(nh, *scene, taps, settings, header);
+  else
+    scriptSimulatorTool(nh, *scene, entries, settings, header);
   return 0;
 }
