@@ -39,7 +39,7 @@ def tool(name):
 class ExamplesFromAnotherSimulator(unittest.TestCase):
     def test_bullet_set_beats_the_own_set_on_bullet_states(self):
         examples, held_out = rospy.get_param("~examples", 12), rospy.get_param("~held_out", 8)
-        seed, bound = rospy.get_param("~seed", 4242), rospy.get_param("~bound", 0.9)
+        seed, bound = rospy.get_param("~seed", 2718), rospy.get_param("~bound", 0.9)
         own_set = os.environ["DE_TEST_SLAB_AUTO_SET"]
         work = tempfile.mkdtemp(prefix="de_coarse_simulator_")
         try:
@@ -59,7 +59,8 @@ class ExamplesFromAnotherSimulator(unittest.TestCase):
                                     "--learning-curve", str(examples), "--also-examples", bullet_set]).stdout)
             own, bullet = score["learning_curve"][0], score["also"][0]
             print(f"{held_out} held-out Bullet interactions (seed {seed}): the set made against Bullet, mean ratio "
-                  f"{bullet['mean_ratio']:.3f} (worst {bullet['worst_ratio']:.3f}); the own-SNH set's first {examples}, "
+                  f"{bullet['mean_ratio']:.3f} (worst {bullet['worst_ratio']:.3f}, oracle {bullet.get('oracle_mean_ratio', float('nan')):.3f}); "
+                  f"the own-SNH set's first {examples}, "
                   f"{own['mean_ratio']:.3f} (worst {own['worst_ratio']:.3f})")
             self.assertLessEqual(bullet["mean_ratio"], bound)
             self.assertLess(bullet["mean_ratio"], own["mean_ratio"])
