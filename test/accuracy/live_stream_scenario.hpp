@@ -19,7 +19,7 @@
 namespace live_stream {
 
 constexpr double kTop = 0.02, kDepth = 0.003, kSigma = 0.006, kSlide = 0.008, kFramePeriod = 1.0 / 60.0;
-constexpr double kMaxFlicker = 3.0, kMinRetained = 0.5, kMaxResidual = 0.05;
+constexpr double kMaxFlicker = 1.5, kMinRetained = 0.5, kMaxResidual = 0.05;
 
 struct Frame {
   double x = 0.0, depth = 0.0;
