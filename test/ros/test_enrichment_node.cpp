@@ -46,6 +46,38 @@ TEST_F(EnrichmentNodeTest, HundredThousandVertexStateFlowsThrough) {
   EXPECT_TRUE(de::ros_layer::positionsFromCloud(*out).allFinite());
 }
 
+// A burst of 10,000 states within about a second, far faster than they are enriched: the bounded queues
+// drop the older ones, and /diagnostics counts every state either as received or as lost on the way (the
+// transport numbers them), exactly; the node goes on enriching.
+TEST_F(EnrichmentNodeTest, ABurstOfTenThousandStatesIsCountedAndSurvived) {
+  const std::string inKey = "mesh states in", lostKey = "mesh states lost in the input queue (newer states came first)";
+  const auto count = [&](const std::string& key) {
+    const std::string value = diagnosticValue(key);
+    return value.empty() ? -1L : std::stol(value);
+  };
+  const long inBefore = count(inKey), lostBefore = count(lostKey);
+  ASSERT_GE(inBefore, 0);
+  ASSERT_GE(lostBefore, 0);
+  constexpr int kBurst = 10000;
+  const ros::WallTime start = ros::WallTime::now();
+  for (int i = 0; i < kBurst; ++i) {
+    statePub_.publish(goodState());
+    if (i % 100 == 99) ros::WallDuration(0.01).sleep();
+  }
+  RecordProperty("burst_seconds", std::to_string((ros::WallTime::now() - start).toSec()));
+  ASSERT_TRUE(roundTrip(goodState(), 10.0)) << "the node did not enrich after the burst";
+  // The diagnostics count up to the last state once a status after it is out.
+  long in = 0, lost = 0;
+  waitFor([&] {
+    in = count(inKey) - inBefore;
+    lost = count(lostKey) - lostBefore;
+    return in + lost == kBurst + 1;
+  }, 10.0);
+  std::printf("burst of %d states: %ld received, %ld lost in the queues\n", kBurst, in, lost);
+  EXPECT_EQ(in + lost, kBurst + 1);
+  EXPECT_GT(lost, 0);
+}
+
 TEST_F(EnrichmentNodeTest, BadMeshStatesAreLoggedDroppedAndSurvived) {
   Eigen::Matrix3Xf tooFew = rest_.vertices.cast<float>().leftCols(rest_.numVertices() - 1);
   expectDroppedAndSurvived(cloudFromPositions(tooFew, header()), "points but the rest mesh has");

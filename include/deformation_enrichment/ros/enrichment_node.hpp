@@ -30,6 +30,7 @@
 #include "deformation_enrichment/enrichment/tool_tip.hpp"
 #include "deformation_enrichment/ros/contact_tracker.hpp"
 #include "deformation_enrichment/ros/enrichment_node_parameters.hpp"
+#include "deformation_enrichment/ros/sequence_gaps.hpp"
 #include "deformation_enrichment/ros/tool_pose_sources.hpp"
 
 namespace deformation_enrichment::ros_layer {
@@ -41,7 +42,7 @@ public:
 
 private:
   void onRestMesh(const pcl_msgs::PolygonMeshConstPtr& message);
-  void onMeshState(const sensor_msgs::PointCloud2ConstPtr& message);
+  void onMeshState(const ros::MessageEvent<const sensor_msgs::PointCloud2>& event);
   void onContacts(const ToolContactArrayConstPtr& message);
   /// One tool's pose topic (~tool_poses, or tool_pose and tool_transform) with its tip geometry.
   struct ToolPoseSource {
@@ -113,6 +114,7 @@ private:
   // Statistics for diagnostics.
   uint64_t statesIn_ = 0, statesOut_ = 0;
   std::map<std::string, uint64_t> dropped_;  // by input name
+  SequenceGaps statesLost_;                  // mesh states lost in the queues before the callback
   std::string lastError_;
   double lastComputeMs_ = 0.0, maxComputeMs_ = 0.0;
   std::map<std::string, ros::WallTime> lastLogged_;

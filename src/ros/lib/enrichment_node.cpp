@@ -98,10 +98,12 @@ void EnrichmentNode::onRestMesh(const pcl_msgs::PolygonMeshConstPtr& message) {
   }
 }
 
-void EnrichmentNode::onMeshState(const sensor_msgs::PointCloud2ConstPtr& message) {
+void EnrichmentNode::onMeshState(const ros::MessageEvent<const sensor_msgs::PointCloud2>& event) {
   const auto start = std::chrono::steady_clock::now();
+  const sensor_msgs::PointCloud2ConstPtr& message = event.getConstMessage();
   std::lock_guard<std::mutex> lock(mutex_);
   ++statesIn_;
+  statesLost_.observe(event.getPublisherName(), message->header.seq);
   Eigen::Matrix3Xf& positions = state_;  // reused: no allocation per state
   try {
     positionsFromCloud(*message, positions);
@@ -277,6 +279,7 @@ void EnrichmentNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& statu
   status.add("last rest build [s]", session.lastRebuildSeconds);
   status.add("last rest surface refused", session.lastRestError);
   status.add("mesh states in", statesIn_);
+  status.add("mesh states lost in the input queue (newer states came first)", statesLost_.total());
   status.add("enriched states out", statesOut_);
   status.add("last compute [ms]", lastComputeMs_);
   status.add("max compute [ms]", maxComputeMs_);
