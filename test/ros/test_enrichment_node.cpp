@@ -373,3 +373,60 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh;
   return RUN_ALL_TESTS();
 }
+
+// The tool pose stream stalls for 5 s while the states go on (stamped at 60 Hz): the tool stays in contact
+// for ~contact_timeout (0.5 s) after its last pose, then counts as lifted and the release rules apply (the
+// still dented site keeps its detail, released); when poses come again, the tool is back in contact.
+TEST_F(EnrichmentNodeTest, AToolPoseStreamThatStallsTimesOutAndComesBack) {
+  setRest(slabSurface(20));
+  const Eigen::Matrix3Xd dented = makeDentExampleSet(rest_, ::testing::TempDir() + "de_rostest_stall_set");
+  de::LoadExampleSet load;
+  load.request.path = ::testing::TempDir() + "de_rostest_stall_set";
+  ASSERT_TRUE(ros::service::waitForService("enrichment/load_example_set", 10000));
+  ASSERT_TRUE(ros::service::call("enrichment/load_example_set", load));
+  ASSERT_TRUE(load.response.success) << load.response.message;
+
+  const ros::Time base = header().stamp;
+  stampCounter_ += 10;  // later tests' stamps come after this test's 5 s
+  const auto pose = [&](const ros::Time& stamp) {
+    geometry_msgs::PoseStamped p;
+    p.header.frame_id = "slab";
+    p.header.stamp = stamp;
+    p.pose.position.z = 0.0185;  // half a millimetre above the dent's floor
+    p.pose.orientation.w = 1.0;
+    posePub_.publish(p);
+    ros::WallDuration(0.2).sleep();
+  };
+  // The state stamped `seconds` after the last pose: the tools in contact and the detail at the contact.
+  const auto state = [&](double seconds) {
+    sensor_msgs::PointCloud2 cloud = cloudFromPositions(dented.cast<float>(), header());
+    cloud.header.stamp = base + ros::Duration(seconds);
+    EXPECT_TRUE(roundTrip(cloud)) << "no output " << seconds << " s into the stall";
+    const de::EnrichmentStatusConstPtr status = statusFor(cloud.header.stamp);
+    const sensor_msgs::PointCloud2ConstPtr out = findEnriched(cloud.header.stamp);
+    const Eigen::Matrix3Xf in = de::ros_layer::positionsFromCloud(cloud);
+    const Eigen::Matrix3Xf enriched = out ? de::ros_layer::positionsFromCloud(*out) : in;
+    EXPECT_TRUE(enriched.allFinite());
+    return std::make_pair(status, (enriched - in).colwise().norm().maxCoeff());
+  };
+  pose(base);
+  int inContact = 0, lifted = 0;
+  for (int frame = 1; frame <= 300; ++frame) {
+    const double seconds = frame / 60.0;
+    const auto [status, detail] = state(seconds);
+    if (!status) continue;
+    const bool touching = status->tool_ids == std::vector<std::string>{"tool_pose"};
+    if (seconds < 0.45) inContact += touching;
+    if (seconds > 0.55) {
+      lifted += !touching && status->released_sites == 1u;
+      EXPECT_GT(detail, 5e-4f) << "the released, still dented site lost its detail " << seconds << " s into the stall";
+    }
+  }
+  EXPECT_EQ(inContact, 26) << "states within the contact timeout that kept the tool";
+  EXPECT_EQ(lifted, 300 - 33) << "states after the timeout with the tool lifted and its site released";
+  pose(base + ros::Duration(5.1));
+  const auto [status, detail] = state(5.1 + 1.0 / 60.0);
+  ASSERT_TRUE(status);
+  EXPECT_EQ(status->tool_ids, std::vector<std::string>{"tool_pose"}) << "the tool is not back in contact";
+  EXPECT_GT(detail, 5e-4f);
+}
