@@ -430,3 +430,58 @@ TEST_F(EnrichmentNodeTest, AToolPoseStreamThatStallsTimesOutAndComesBack) {
   EXPECT_EQ(status->tool_ids, std::vector<std::string>{"tool_pose"}) << "the tool is not back in contact";
   EXPECT_GT(detail, 5e-4f);
 }
+
+// The coarse simulator restarts while a released site still holds detail: it publishes its rest mesh again
+// and its states resume. Nothing of the old run is applied to the new one: the first states, dented or not,
+// come out as they went in until a tool touches.
+TEST_F(EnrichmentNodeTest, ASimulatorRestartLeavesNoStaleDetail) {
+  setRest(slabSurface(20));
+  const Eigen::Matrix3Xd dented = makeDentExampleSet(rest_, ::testing::TempDir() + "de_rostest_restart_set");
+  de::LoadExampleSet load;
+  load.request.path = ::testing::TempDir() + "de_rostest_restart_set";
+  ASSERT_TRUE(ros::service::waitForService("enrichment/load_example_set", 10000));
+  ASSERT_TRUE(ros::service::call("enrichment/load_example_set", load));
+  ASSERT_TRUE(load.response.success) << load.response.message;
+  // Touched, then released with the tissue still dented: the released site keeps its detail.
+  de::ToolContactArray contacts;
+  contacts.header = header();
+  de::ToolContact tool;
+  tool.tool_id = "PSM1";
+  tool.in_contact = true;
+  tool.position.z = 0.018;
+  tool.normal.z = 1.0;
+  contacts.contacts.push_back(tool);
+  contactsPub_.publish(contacts);
+  ros::WallDuration(0.3).sleep();
+  sensor_msgs::PointCloud2 touched = cloudFromPositions(dented.cast<float>(), contacts.header);
+  ASSERT_TRUE(roundTrip(touched));
+  ASSERT_NE(findEnriched(touched.header.stamp)->data, touched.data) << "no detail before the restart";
+  contactsPub_.publish(de::ToolContactArray());
+  ros::WallDuration(0.3).sleep();
+  sensor_msgs::PointCloud2 released = cloudFromPositions(dented.cast<float>(), header());
+  ASSERT_TRUE(roundTrip(released));
+  ASSERT_NE(findEnriched(released.header.stamp)->data, released.data) << "the released site lost its detail";
+
+  // The restarted simulator's rest mesh: the surface 2 mm higher (another surface of the same size), then
+  // its states, dented from the first: none at rest in between, which would release the old site by itself.
+  const std::string builtKey = "rest surfaces built";
+  const long builtBefore = std::stol(diagnosticValue(builtKey));
+  de::mesh::TriangleMesh raised = rest_;
+  raised.vertices.row(2).array() += 0.002;
+  Eigen::Matrix3Xd raisedDent = dented;
+  raisedDent.row(2).array() += 0.002;
+  restPub_.publish(de::ros_layer::messageFromTriangleMesh(raised, header()));
+  ros::WallDuration(0.3).sleep();
+  ASSERT_TRUE(waitFor([&] {
+    EXPECT_TRUE(roundTrip(cloudFromPositions(raisedDent.cast<float>(), header())));
+    return std::stol(diagnosticValue(builtKey)) > builtBefore;
+  }, 20.0)) << "the new rest mesh was never built";
+  for (int frame = 0; frame < 5; ++frame) {
+    sensor_msgs::PointCloud2 state = cloudFromPositions(raisedDent.cast<float>(), header());
+    ASSERT_TRUE(roundTrip(state));
+    EXPECT_EQ(findEnriched(state.header.stamp)->data, state.data) << "detail of the old run on state " << frame << " of the new";
+    const de::EnrichmentStatusConstPtr status = statusFor(state.header.stamp);
+    ASSERT_TRUE(status);
+    EXPECT_EQ(status->released_sites, 0u);
+  }
+}
