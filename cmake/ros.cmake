@@ -154,6 +154,14 @@ if(CATKIN_ENABLE_TESTING)
   de_rostest_gtest(test_shape_space_server test/ros/shape_space_server.test SOURCES test/ros/test_shape_space_server.cpp
     test/unit/shape_space/real_sequences.hpp
     DEPENDS ${DE_NODE_TARGETS})
+  # The node under load for a minute (scripts/soak --minutes M runs it for longer).
+  add_executable(soak_driver test/ros/soak_driver.cpp)
+  target_compile_options(soak_driver PRIVATE ${DE_WARNINGS})
+  target_link_libraries(soak_driver deformation_enrichment_ros)
+  add_test(NAME soak COMMAND ${CATKIN_DEVEL_PREFIX}/env.sh bash ${PROJECT_SOURCE_DIR}/scripts/soak --minutes 1
+    --example-set ${DE_TEST_SLAB_SET} --no-build)
+  set_tests_properties(soak PROPERTIES FIXTURES_REQUIRED slab_set TIMEOUT 600)
+  add_dependencies(soak_driver enrichment_node)
   # The Bullet coarse simulator speaks the contract of docs/coarse_simulator.md.
   de_rostest_gtest(test_bullet_coarse_sim test/ros/bullet_coarse_sim.test SOURCES test/ros/test_bullet_coarse_sim.cpp
     DEPENDS bullet_coarse_sim_node)

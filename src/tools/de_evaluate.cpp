@@ -289,6 +289,7 @@ json otherSets(Evaluation& ev, const std::vector<acquisition::HeldOutCase>& case
     json row = summary(score);
     row["example_set"] = path;
     row["examples"] = other.examples.size();
+    row["oracle_mean_ratio"] = score.meanOracleRatio();
     rows.push_back(row);
     std::cerr << path << ": mean ratio " << score.meanRatio() << ", worst " << score.worstRatio() << "\n";
   }

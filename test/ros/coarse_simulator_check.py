@@ -59,7 +59,7 @@ class ExamplesFromAnotherSimulator(unittest.TestCase):
                                     "--learning-curve", str(examples), "--also-examples", bullet_set]).stdout)
             own, bullet = score["learning_curve"][0], score["also"][0]
             print(f"{held_out} held-out Bullet interactions (seed {seed}): the set made against Bullet, mean ratio "
-                  f"{bullet['mean_ratio']:.3f} (worst {bullet['worst_ratio']:.3f}, oracle {bullet.get('oracle_mean_ratio', float('nan')):.3f}); "
+                  f"{bullet['mean_ratio']:.3f} (worst {bullet['worst_ratio']:.3f}, oracle {bullet['oracle_mean_ratio']:.3f}); "
                   f"the own-SNH set's first {examples}, "
                   f"{own['mean_ratio']:.3f} (worst {own['worst_ratio']:.3f})")
             self.assertLessEqual(bullet["mean_ratio"], bound)

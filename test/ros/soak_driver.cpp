@@ -1,0 +1,191 @@
+// The soak of scripts/soak: a 100k-vertex slab surface (10 x 10 x 2 cm box) dented under tool A, which
+// circles the top, with mesh states at ~state_rate (60 Hz) and both tools' poses at ~pose_rate (1 kHz); tool
+// B presses beside it for 10 s of every 20 (it joins and leaves); the enrichment node's markers are
+// subscribed all along. Over ~seconds it counts the states sent and the enriched states received (every one
+// must come back), the latency of each (receipt time minus the state's stamp, its sending time), and samples
+// the resident memory of the process ~process_name (enrichment_node) every second. It prints one JSON line
+// and exits 0 when no state was lost, at least 90 % of the states got detail and some both tools', and the
+// memory held flat: the mean of the last minute within 2 % of the second minute's (runs under three
+// minutes: the last quarter against the second).
+#include <geometry_msgs/PoseStamped.h>
+#include <ros/ros.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "deformation_enrichment/EnrichmentStatus.h"
+#include "deformation_enrichment/mesh/grid_tet_mesh.hpp"
+#include "deformation_enrichment/mesh/tet_surface.hpp"
+#include "deformation_enrichment/ros/conversions.hpp"
+
+namespace de = deformation_enrichment;
+
+namespace {
+
+constexpr double kDepth = 0.002, kWidth = 0.006;  // the dents' depth and Gaussian width (m)
+constexpr double kTop = 0.02;
+
+// The process whose executable is named `name` (the first found), 0 when there is none.
+int findProcess(const std::string& name) {
+  for (const auto& entry : std::filesystem::directory_iterator("/proc")) {
+    const std::string pid = entry.path().filename();
+    if (pid.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::string executable;
+    std::getline(std::ifstream(entry.path() / "cmdline"), executable, '\0');
+    if (std::filesystem::path(executable).filename() == name) return std::stoi(pid);
+  }
+  return 0;
+}
+
+// Resident memory of process `pid` in kB (VmRSS), 0 when it cannot be read.
+long residentKb(int pid) {
+  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
+  return 0;
+}
+
+// Where tool A is at time t (s): a 2 cm circle on the top, one turn in 8 s; tool B sits at (-2, -2) cm.
+Eigen::Vector3d toolA(double t) { return {0.02 * std::cos(t * M_PI / 4.0), 0.02 * std::sin(t * M_PI / 4.0), kTop - kDepth}; }
+const Eigen::Vector3d kToolB(-0.02, -0.02, kTop - kDepth);
+bool toolBPresent(double t) { return std::fmod(t, 20.0) >= 10.0; }
+
+void dent(const Eigen::Matrix3Xf& rest, const Eigen::Vector3d& at, Eigen::Matrix3Xf& positions) {
+  for (Eigen::Index v = 0; v < rest.cols(); ++v) {
+    const double r2 = (rest.col(v).head<2>().cast<double>() - at.head<2>()).squaredNorm();
+    if (rest(2, v) > kTop - 1e-6 && r2 < 16.0 * kWidth * kWidth)
+      positions(2, v) -= static_cast<float>(kDepth * std::exp(-r2 / (2.0 * kWidth * kWidth)));
+  }
+}
+
+double percentile(std::vector<double> values, double q) {
+  if (values.empty()) return 0.0;
+  const std::size_t k = std::min(values.size() - 1, static_cast<std::size_t>(q * values.size()));
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
+  return values[k];
+}
+
+double mean(const std::vector<long>& v, std::size_t from, std::size_t to) {
+  double sum = 0.0;
+  for (std::size_t i = from; i < to; ++i) sum += static_cast<double>(v[i]);
+  return to > from ? sum / static_cast<double>(to - from) : 0.0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "soak_driver");
+  ros::NodeHandle nh, pnh("~");
+  const double seconds = pnh.param("seconds", 60.0), stateRate = pnh.param("state_rate", 60.0), poseRate = pnh.param("pose_rate", 1000.0);
+  const int cells = pnh.param("cells", 223);
+  const std::string processName = pnh.param<std::string>("process_name", "enrichment_node");
+  const de::mesh::TriangleMesh surface =
+      de::mesh::extractSurface(de::mesh::gridTetMesh(Eigen::Vector3d(-0.05, -0.05, 0), Eigen::Vector3d(0.05, 0.05, kTop),
+                                                     Eigen::Vector3i(cells, cells, 1)))
+          .surface;
+  const Eigen::Matrix3Xf rest = surface.vertices.cast<float>();
+  std_msgs::Header header;
+  header.frame_id = "slab";
+  ros::Publisher restPub = nh.advertise<pcl_msgs::PolygonMesh>("rest_mesh", 1, true);
+  ros::Publisher statePub = nh.advertise<sensor_msgs::PointCloud2>("mesh_state", 10);
+  ros::Publisher posePubA = nh.advertise<geometry_msgs::PoseStamped>("PSM1/measured_cp", 100);
+  ros::Publisher posePubB = nh.advertise<geometry_msgs::PoseStamped>("PSM2/measured_cp", 100);
+  long received = 0, markers = 0;
+  std::vector<double> latencyMs;
+  ros::Time measureFrom;  // states stamped from then on are counted (zero: not yet)
+  ros::Subscriber enriched = nh.subscribe<sensor_msgs::PointCloud2>("enriched_mesh_state", 100, [&](const sensor_msgs::PointCloud2ConstPtr& m) {
+    if (measureFrom.isZero() || m->header.stamp < measureFrom) return;
+    ++received;
+    latencyMs.push_back(1e3 * (ros::Time::now() - m->header.stamp).toSec());
+  });
+  long withDetail = 0, withTwoTools = 0;  // states whose status shows stamps placed / both tools in contact
+  ros::Subscriber statusSub = nh.subscribe<deformation_enrichment::EnrichmentStatus>("enrichment/status", 100, [&](const auto& s) {
+    if (measureFrom.isZero() || s->header.stamp < measureFrom) return;
+    withDetail += s->vertices_touched > 0;
+    withTwoTools += s->tool_ids.size() == 2;
+  });
+  ros::Subscriber markerSub = nh.subscribe<visualization_msgs::MarkerArray>("enrichment/markers", 1, [&](const auto&) { ++markers; });
+  header.stamp = ros::Time::now();
+  restPub.publish(de::ros_layer::messageFromTriangleMesh(surface, header));
+
+  // Until the node enriches the 100k-vertex surface (its rest surface is built in the background).
+  sensor_msgs::PointCloud2 cloud = de::ros_layer::cloudFromPositions(rest, header);
+  long warm = 0;
+  ros::Subscriber warmSub = nh.subscribe<sensor_msgs::PointCloud2>("enriched_mesh_state", 1, [&](const auto&) { ++warm; });
+  for (ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(120.0); ros::ok() && warm < 3; ros::WallDuration(0.1).sleep()) {
+    if (ros::WallTime::now() > deadline) {
+      std::fprintf(stderr, "soak: the enrichment node did not answer within 120 s\n");
+      return 1;
+    }
+    cloud.header.stamp = ros::Time::now();
+    statePub.publish(cloud);
+    ros::spinOnce();
+  }
+  warmSub.shutdown();
+
+  const int pid = findProcess(processName);
+  if (pid == 0) std::fprintf(stderr, "soak: no process %s to watch the memory of\n", processName.c_str());
+  measureFrom = ros::Time::now();
+  long sent = 0;
+  std::vector<long> memory;
+  Eigen::Matrix3Xf positions = rest;
+  const ros::WallTime start = ros::WallTime::now();
+  double nextState = 0.0, nextPose = 0.0, nextSample = 0.0;
+  for (double t = 0.0; ros::ok() && t < seconds; t = (ros::WallTime::now() - start).toSec()) {
+    if (t >= nextPose) {
+      geometry_msgs::PoseStamped pose;
+      pose.header.frame_id = "slab";
+      pose.header.stamp = ros::Time::now();
+      pose.pose.orientation.w = 1.0;
+      const Eigen::Vector3d a = toolA(t);
+      pose.pose.position.x = a.x(), pose.pose.position.y = a.y(), pose.pose.position.z = a.z();
+      posePubA.publish(pose);
+      if (toolBPresent(t)) {
+        pose.pose.position.x = kToolB.x(), pose.pose.position.y = kToolB.y(), pose.pose.position.z = kToolB.z();
+        posePubB.publish(pose);
+      }
+      nextPose += 1.0 / poseRate;
+    }
+    if (t >= nextState) {
+      positions = rest;
+      dent(rest, toolA(t), positions);
+      if (toolBPresent(t)) dent(rest, kToolB, positions);
+      cloud.header.stamp = ros::Time::now();
+      de::ros_layer::writePositions(positions, cloud);
+      statePub.publish(cloud);
+      ++sent;
+      nextState += 1.0 / stateRate;
+    }
+    if (t >= nextSample) {
+      memory.push_back(residentKb(pid));
+      nextSample += 1.0;
+    }
+    ros::spinOnce();
+    ros::WallDuration(2e-4).sleep();
+  }
+  // The last states on their way back.
+  for (ros::WallTime end = ros::WallTime::now() + ros::WallDuration(3.0); ros::ok() && received < sent && ros::WallTime::now() < end;) {
+    ros::spinOnce();
+    ros::WallDuration(0.01).sleep();
+  }
+  const std::size_t n = memory.size();
+  const bool minutes = seconds >= 180.0;
+  const double early = minutes ? mean(memory, 60, 120) : mean(memory, n / 4, n / 2);
+  const double late = minutes ? mean(memory, n - 60, n) : mean(memory, 3 * n / 4, n);
+  const double growth = early > 0.0 ? late / early - 1.0 : 0.0;
+  const bool ok = received == sent && early > 0.0 && std::abs(growth) <= 0.02 && withDetail >= sent * 9 / 10 && withTwoTools > 0;
+  std::printf("soak: {\"seconds\": %.0f, \"vertices\": %ld, \"states_sent\": %ld, \"states_enriched\": %ld, \"lost\": %ld, "
+              "\"with_detail\": %ld, \"with_two_tools\": %ld, \"latency_ms\": {\"p50\": %.2f, \"p99\": %.2f, \"max\": %.2f}, "
+              "\"marker_arrays\": %ld, "
+              "\"resident_kb\": {\"early\": %.0f, \"late\": %.0f, \"growth\": %.4f}, \"ok\": %s}\n",
+              seconds, static_cast<long>(rest.cols()), sent, received, sent - received, withDetail, withTwoTools, percentile(latencyMs, 0.5),
+              percentile(latencyMs, 0.99), percentile(latencyMs, 1.0), markers, early, late, growth, ok ? "true" : "false");
+  return ok ? 0 : 1;
+}
