@@ -133,6 +133,31 @@ protected:
 
   sensor_msgs::PointCloud2 goodState() { return cloudFromPositions(rest_.vertices.cast<float>(), header()); }
 
+  /// Loads the example set at `path` through the node's service; returns the service's answer.
+  de::LoadExampleSet::Response loadSet(const std::string& path) {
+    de::LoadExampleSet load;
+    load.request.path = path;
+    EXPECT_TRUE(ros::service::waitForService("enrichment/load_example_set", 10000));
+    EXPECT_TRUE(ros::service::call("enrichment/load_example_set", load));
+    return load.response;
+  }
+
+  /// Tool PSM1 in contact at the top centre, 2 mm down (where makeDentExampleSet's dent is), published on
+  /// `contacts` and given a moment to arrive; returns the message (its header stamps the matching state).
+  de::ToolContactArray touchTopCentre() {
+    de::ToolContactArray contacts;
+    contacts.header = header();
+    de::ToolContact tool;
+    tool.tool_id = "PSM1";
+    tool.in_contact = true;
+    tool.position.z = 0.018;
+    tool.normal.z = 1.0;
+    contacts.contacts.push_back(tool);
+    contactsPub_.publish(contacts);
+    ros::WallDuration(0.3).sleep();
+    return contacts;
+  }
+
   bool logged(const std::string& fragment, double seconds = 3.0) {
     return waitFor([&] {
       std::lock_guard<std::mutex> lock(mutex_);

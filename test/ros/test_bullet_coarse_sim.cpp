@@ -11,16 +11,16 @@
 #include <std_srvs/Empty.h>
 
 #include <cmath>
-#include <functional>
 #include <limits>
 
 #include "deformation_enrichment/ros/conversions.hpp"
 #include "deformation_enrichment/scene_file/scene_description.hpp"
 #include "deformation_enrichment/scenes/scene_models.hpp"
-
-namespace de = deformation_enrichment;
+#include "enrichment_node_fixture.hpp"
 
 namespace {
+
+using enrichment_test::waitFor;
 
 constexpr double kDepth = 0.003;
 
@@ -38,15 +38,6 @@ protected:
     ASSERT_TRUE(waitFor([&] { return received_ > 0 && commands_.getNumSubscribers() > 0; }, 30.0)) << "no mesh_state, or no servo_cp subscriber";
   }
 
-  static bool waitFor(const std::function<bool()>& done, double seconds) {
-    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-    while (ros::ok() && ros::WallTime::now() < end) {
-      ros::spinOnce();
-      if (done()) return true;
-      ros::WallDuration(0.005).sleep();
-    }
-    return done();
-  }
   // The next `n` states' last one.
   Eigen::Matrix3Xf nextState(int n = 1) {
     const long until = received_ + n;

@@ -237,24 +237,12 @@ TEST_F(EnrichmentNodeTest, ExampleSetEnrichesOnlyAtTheContactSurvivesACorruptSet
   const std::string good = ::testing::TempDir() + "de_rostest_set", bad = ::testing::TempDir() + "de_rostest_bad_set";
   const Eigen::Matrix3Xd dented = makeDentExampleSet(rest_, good);
 
-  de::LoadExampleSet load;
-  load.request.path = good;
-  ASSERT_TRUE(ros::service::waitForService("enrichment/load_example_set", 10000));
-  ASSERT_TRUE(ros::service::call("enrichment/load_example_set", load));
-  ASSERT_TRUE(load.response.success) << load.response.message;
-  EXPECT_EQ(load.response.num_examples, 1u);
+  const de::LoadExampleSet::Response loaded = loadSet(good);
+  ASSERT_TRUE(loaded.success) << loaded.message;
+  EXPECT_EQ(loaded.num_examples, 1u);
 
   auto touchAndCheck = [&](const char* when) {
-    de::ToolContactArray contacts;
-    contacts.header = header();
-    de::ToolContact tool;
-    tool.tool_id = "PSM1";
-    tool.in_contact = true;
-    tool.position.z = 0.018;
-    tool.normal.z = 1.0;
-    contacts.contacts.push_back(tool);
-    contactsPub_.publish(contacts);
-    ros::WallDuration(0.3).sleep();
+    const de::ToolContactArray contacts = touchTopCentre();
     sensor_msgs::PointCloud2 state = cloudFromPositions(dented.cast<float>(), contacts.header);
     ASSERT_TRUE(roundTrip(state)) << when;
     const Eigen::Matrix3Xf in = de::ros_layer::positionsFromCloud(state);
@@ -285,10 +273,9 @@ TEST_F(EnrichmentNodeTest, ExampleSetEnrichesOnlyAtTheContactSurvivesACorruptSet
 
   std::filesystem::create_directories(bad);
   std::ofstream(bad + "/manifest.json") << "{ not json";
-  load.request.path = bad;
-  ASSERT_TRUE(ros::service::call("enrichment/load_example_set", load));
-  EXPECT_FALSE(load.response.success);
-  EXPECT_EQ(load.response.num_examples, 1u) << "the old set must stay active";
+  const de::LoadExampleSet::Response refused = loadSet(bad);
+  EXPECT_FALSE(refused.success);
+  EXPECT_EQ(refused.num_examples, 1u) << "the old set must stay active";
   touchAndCheck("after a corrupt set");
 
   // Lift-off with the tissue still dented: the released site keeps its detail ...
@@ -323,11 +310,8 @@ TEST_F(EnrichmentNodeTest, TwoToolsWithOverlappingStampsGiveAContinuousSurface) 
   setRest(slabSurface(40));  // 2.5 mm grid on the top
   const std::string directory = ::testing::TempDir() + "de_rostest_two_tools_set";
   const Eigen::Matrix3Xd dented = makeDentExampleSet(rest_, directory);
-  de::LoadExampleSet load;
-  load.request.path = directory;
-  ASSERT_TRUE(ros::service::waitForService("enrichment/load_example_set", 10000));
-  ASSERT_TRUE(ros::service::call("enrichment/load_example_set", load));
-  ASSERT_TRUE(load.response.success) << load.response.message;
+  const de::LoadExampleSet::Response loaded = loadSet(directory);
+  ASSERT_TRUE(loaded.success) << loaded.message;
 
   // Largest change of the added displacement along a mesh edge, for the given tool positions.
   auto enrichWith = [&](const std::vector<double>& xs, Eigen::Matrix3Xf& added) {
@@ -380,11 +364,8 @@ int main(int argc, char** argv) {
 TEST_F(EnrichmentNodeTest, AToolPoseStreamThatStallsTimesOutAndComesBack) {
   setRest(slabSurface(20));
   const Eigen::Matrix3Xd dented = makeDentExampleSet(rest_, ::testing::TempDir() + "de_rostest_stall_set");
-  de::LoadExampleSet load;
-  load.request.path = ::testing::TempDir() + "de_rostest_stall_set";
-  ASSERT_TRUE(ros::service::waitForService("enrichment/load_example_set", 10000));
-  ASSERT_TRUE(ros::service::call("enrichment/load_example_set", load));
-  ASSERT_TRUE(load.response.success) << load.response.message;
+  const de::LoadExampleSet::Response loaded = loadSet(::testing::TempDir() + "de_rostest_stall_set");
+  ASSERT_TRUE(loaded.success) << loaded.message;
 
   const ros::Time base = header().stamp;
   stampCounter_ += 10;  // later tests' stamps come after this test's 5 s
@@ -437,23 +418,10 @@ TEST_F(EnrichmentNodeTest, AToolPoseStreamThatStallsTimesOutAndComesBack) {
 TEST_F(EnrichmentNodeTest, ASimulatorRestartLeavesNoStaleDetail) {
   setRest(slabSurface(20));
   const Eigen::Matrix3Xd dented = makeDentExampleSet(rest_, ::testing::TempDir() + "de_rostest_restart_set");
-  de::LoadExampleSet load;
-  load.request.path = ::testing::TempDir() + "de_rostest_restart_set";
-  ASSERT_TRUE(ros::service::waitForService("enrichment/load_example_set", 10000));
-  ASSERT_TRUE(ros::service::call("enrichment/load_example_set", load));
-  ASSERT_TRUE(load.response.success) << load.response.message;
+  const de::LoadExampleSet::Response loaded = loadSet(::testing::TempDir() + "de_rostest_restart_set");
+  ASSERT_TRUE(loaded.success) << loaded.message;
   // Touched, then released with the tissue still dented: the released site keeps its detail.
-  de::ToolContactArray contacts;
-  contacts.header = header();
-  de::ToolContact tool;
-  tool.tool_id = "PSM1";
-  tool.in_contact = true;
-  tool.position.z = 0.018;
-  tool.normal.z = 1.0;
-  contacts.contacts.push_back(tool);
-  contactsPub_.publish(contacts);
-  ros::WallDuration(0.3).sleep();
-  sensor_msgs::PointCloud2 touched = cloudFromPositions(dented.cast<float>(), contacts.header);
+  sensor_msgs::PointCloud2 touched = cloudFromPositions(dented.cast<float>(), touchTopCentre().header);
   ASSERT_TRUE(roundTrip(touched));
   ASSERT_NE(findEnriched(touched.header.stamp)->data, touched.data) << "no detail before the restart";
   contactsPub_.publish(de::ToolContactArray());

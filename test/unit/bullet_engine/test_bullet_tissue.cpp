@@ -20,18 +20,21 @@ constexpr double kDepth = 0.003;         // indentation (m)
 constexpr double kSettledSpeed = 1e-4;   // m/s
 constexpr int kMaxSettleSteps = 2000;    // ~0.5 s of simulated time; the slab settles in ~560 steps
 
+// The scene's material and tool, with the mesh's stable step (as the node's defaults).
+BulletTissueOptions tissueOptions(const scene_file::SceneDescription& scene, const mesh::TetMesh& coarse) {
+  BulletTissueOptions o;
+  o.young = scene.material.young;
+  o.poisson = scene.material.poisson;
+  o.toolRadius = scene.tool.radius;
+  o.timeStep = bullet_engine::stableTimeStep(coarse, o.young, o.poisson, o.density);
+  return o;
+}
+
 struct Slab {
   scene_file::SceneDescription scene = scene_file::readSceneFile(scene_file::findSceneFile("slab"));
   scenes::Scene coarse = scenes::buildSceneModels(scene).coarse;
 
-  BulletTissueOptions options() const {
-    BulletTissueOptions o;
-    o.young = scene.material.young;
-    o.poisson = scene.material.poisson;
-    o.toolRadius = scene.tool.radius;
-    o.timeStep = bullet_engine::stableTimeStep(coarse.mesh, o.young, o.poisson, o.density);  // as the node's default
-    return o;
-  }
+  BulletTissueOptions options() const { return tissueOptions(scene, coarse.mesh); }
   // The top contact point at the centre of the slab and the top node nearest it.
   Eigen::Vector3d contact() const { return Eigen::Vector3d(0.0, 0.0, coarse.mesh.vertices.row(2).maxCoeff()); }
   Eigen::Index nodeNearest(const Eigen::Vector3d& p) const {
@@ -124,11 +127,7 @@ TEST(BulletTissue, PressesAtACornerAnEdgeAndBetweenNodesSettle) {
 TEST(BulletTissue, APressOnTheCgalLiverSettles) {
   const scene_file::SceneDescription scene = scene_file::readSceneFile(scene_file::findSceneFile("liver"));
   const scenes::Scene coarse = scenes::buildSceneModels(scene).coarse;
-  BulletTissueOptions o;
-  o.young = scene.material.young;
-  o.poisson = scene.material.poisson;
-  o.toolRadius = scene.tool.radius;
-  o.timeStep = bullet_engine::stableTimeStep(coarse.mesh, o.young, o.poisson, o.density);
+  const BulletTissueOptions o = tissueOptions(scene, coarse.mesh);
   BulletTissue tissue(coarse.mesh, coarse.fixedVertices, o);
   Eigen::Index highest = 0;
   coarse.mesh.vertices.row(2).maxCoeff(&highest);
