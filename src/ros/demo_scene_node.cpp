@@ -200,7 +200,9 @@ void scriptSimulatorTool(ros::NodeHandle& nh, const de::acquisition::SceneAcquis
     commandPub.publish(command);
     de::ToolContactArray contacts;
     contacts.header = header;
-    if (s > 0.0) contacts.contacts.push_back(toolContact(header, measured.value_or(centre) + radius * path.inward, path.inward));
+    // Only once the simulator says where its tool is: it publishes that with its states, so the contacts do
+    // not reach the enrichment node before any state (where they would be dropped with an error).
+    if (s > 0.0 && measured) contacts.contacts.push_back(toolContact(header, *measured + radius * path.inward, path.inward));
     contactsPub.publish(contacts);
     ros::spinOnce();
     loop.sleep();

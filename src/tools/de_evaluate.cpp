@@ -285,11 +285,13 @@ json otherSets(Evaluation& ev, const std::vector<acquisition::HeldOutCase>& case
     const double similarity = other.metadata.provenance ? enrichment::materialSimilarity(other.metadata.provenance->scene, ev.scene) : 1.0;
     if (similarity != ev.similarity) throw InvalidInputError("--also-examples " + path + ": another material than " + ev.settings.set);
     ev.enricher->setExamples(other, ev.blenderFor(other));
-    const acquisition::HeldOutScore score = acquisition::scoreHeldOut(*ev.enricher, cases, ev.settings.repetitions);
+    const acquisition::HeldOutScore score = acquisition::scoreHeldOut(*ev.enricher, cases, ev.settings.repetitions,
+                                                                      acquisition::Bounds::Compute);
     json row = summary(score);
     row["example_set"] = path;
     row["examples"] = other.examples.size();
     row["oracle_mean_ratio"] = score.meanOracleRatio();
+    row["own_stamp_mean_ratio"] = score.meanOwnStampRatio();
     rows.push_back(row);
     std::cerr << path << ": mean ratio " << score.meanRatio() << ", worst " << score.worstRatio() << "\n";
   }
