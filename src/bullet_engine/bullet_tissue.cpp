@@ -40,7 +40,7 @@ constexpr double kToolFriction = 1.0;  // static friction: the tissue moves with
 // Contacts are Lagrange multipliers, solved with the damping by Bullet's conjugate residual, which stops when
 // the preconditioned residual's norm (Bullet units, about one tool radius and kilograms) falls below this.
 // Bullet's 1e-8 settles a 2 mm press at the slab's corner to 1e-8 m/s at 14 ms a step; 1e-3 to 5e-5 m/s at
-// 5 ms, its resting nodes within 2e-5 m of the 1e-8 solve's; 1e-2 leaves 1.4e-4 m/s.
+// 3.5 ms, its resting nodes within 2e-5 m of the 1e-8 solve's; 1e-2 leaves 1.4e-4 m/s.
 constexpr double kCrTolerance = 1e-3;
 
 // m_cr is a protected member of Bullet's solver, meant to be tuned by a derived one.
