@@ -130,14 +130,10 @@ private:
   }
 
   geometry_msgs::PoseStamped command(const Eigen::Vector3d& centre) const {
-    geometry_msgs::PoseStamped pose;
-    pose.header.stamp = ros::Time::now();
-    pose.header.frame_id = settings_.frame;
-    pose.pose.position.x = centre.x();
-    pose.pose.position.y = centre.y();
-    pose.pose.position.z = centre.z();
-    pose.pose.orientation.w = 1.0;
-    return pose;
+    std_msgs::Header header;
+    header.stamp = ros::Time::now();
+    header.frame_id = settings_.frame;
+    return de::ros_layer::poseAt(centre, header);
   }
 
   // Publishes `pose` and waits until ~settle_states consecutive states each moved less than the tolerance.

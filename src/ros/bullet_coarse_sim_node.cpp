@@ -95,14 +95,8 @@ public:
     const Eigen::Matrix3Xd surface = models_.surface.vertices + de::mesh::interpolate(embedding_, rest, nodes - rest.vertices);
     header_.stamp = ros::Time::now();
     statePub_.publish(de::ros_layer::cloudFromPositions(surface.cast<float>(), header_));
-    geometry_msgs::PoseStamped measured;  // where the tool is: it follows servo_cp at ~tool_speed
-    measured.header = header_;
-    const Eigen::Vector3d tool = tissue_->toolCentre();
-    measured.pose.position.x = tool.x();
-    measured.pose.position.y = tool.y();
-    measured.pose.position.z = tool.z();
-    measured.pose.orientation.w = 1.0;
-    measuredPub_.publish(measured);
+    // Where the tool is: it follows servo_cp at ~tool_speed.
+    measuredPub_.publish(de::ros_layer::poseAt(tissue_->toolCentre(), header_));
   }
 
 private:

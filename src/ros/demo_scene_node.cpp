@@ -191,13 +191,7 @@ void scriptSimulatorTool(ros::NodeHandle& nh, const de::acquisition::SceneAcquis
     const double f = s - k;
     const Eigen::Vector3d centre = s > 0.0 ? Eigen::Vector3d((1.0 - f) * c[static_cast<std::size_t>(k)] + f * c[static_cast<std::size_t>(k + 1)])
                                            : Eigen::Vector3d(c.front() - std::max(radius, 2.0 * path.depth) * path.inward);
-    geometry_msgs::PoseStamped command;
-    command.header = header;
-    command.pose.position.x = centre.x();
-    command.pose.position.y = centre.y();
-    command.pose.position.z = centre.z();
-    command.pose.orientation.w = 1.0;
-    commandPub.publish(command);
+    commandPub.publish(de::ros_layer::poseAt(centre, header));
     de::ToolContactArray contacts;
     contacts.header = header;
     // Only once the simulator says where its tool is: it publishes that with its states, so the contacts do

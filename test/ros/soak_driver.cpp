@@ -140,17 +140,9 @@ int main(int argc, char** argv) {
   double nextState = 0.0, nextPose = 0.0, nextSample = 0.0;
   for (double t = 0.0; ros::ok() && t < seconds; t = (ros::WallTime::now() - start).toSec()) {
     if (t >= nextPose) {
-      geometry_msgs::PoseStamped pose;
-      pose.header.frame_id = "slab";
-      pose.header.stamp = ros::Time::now();
-      pose.pose.orientation.w = 1.0;
-      const Eigen::Vector3d a = toolA(t);
-      pose.pose.position.x = a.x(), pose.pose.position.y = a.y(), pose.pose.position.z = a.z();
-      posePubA.publish(pose);
-      if (toolBPresent(t)) {
-        pose.pose.position.x = kToolB.x(), pose.pose.position.y = kToolB.y(), pose.pose.position.z = kToolB.z();
-        posePubB.publish(pose);
-      }
+      header.stamp = ros::Time::now();
+      posePubA.publish(de::ros_layer::poseAt(toolA(t), header));
+      if (toolBPresent(t)) posePubB.publish(de::ros_layer::poseAt(kToolB, header));
       nextPose += 1.0 / poseRate;
     }
     if (t >= nextState) {

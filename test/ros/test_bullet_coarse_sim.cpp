@@ -57,14 +57,10 @@ protected:
     return previous;
   }
   void command(const Eigen::Vector3d& centre, const std::string& frame = "slab") {
-    geometry_msgs::PoseStamped pose;
-    pose.header.frame_id = frame;
-    pose.header.stamp = ros::Time::now();
-    pose.pose.position.x = centre.x();
-    pose.pose.position.y = centre.y();
-    pose.pose.position.z = centre.z();
-    pose.pose.orientation.w = 1.0;
-    commands_.publish(pose);
+    std_msgs::Header header;
+    header.frame_id = frame;
+    header.stamp = ros::Time::now();
+    commands_.publish(de::ros_layer::poseAt(centre, header));
   }
   Eigen::Index topCentreVertex() const {
     Eigen::Index v = 0;

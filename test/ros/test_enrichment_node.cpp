@@ -144,13 +144,7 @@ TEST_F(EnrichmentNodeTest, ContactsInUnknownFramesAreRejectedValidOnesReported) 
 
 TEST_F(EnrichmentNodeTest, ToolPoseNearTheSurfaceBecomesAContact) {
   expectToolPoseContact([&](const Eigen::Vector3d& p, const std_msgs::Header& h) {
-    geometry_msgs::PoseStamped pose;
-    pose.header = h;
-    pose.pose.position.x = p.x();
-    pose.pose.position.y = p.y();
-    pose.pose.position.z = p.z();
-    pose.pose.orientation.w = 1.0;
-    posePub_.publish(pose);
+    posePub_.publish(de::ros_layer::poseAt(p, h));
   });
 }
 

@@ -44,8 +44,9 @@ struct BulletTissueOptions {
 
 /// A Bullet step that holds on `rest`: 1.5 x the time a pressure wave (speed sqrt((lambda + 2 mu) / density))
 /// takes across the thinnest tet (its smallest height). Measured limits, in that unit: the slab blows up at
-/// 6 (1e-3 s), holds 3 mm at 3 and 6 mm at 1.5; the meniscus blows up at 4 and holds 2 mm at 1.5 (3.7e-5 s);
-/// the pillow holds 6 mm at 1.5. Throws InvalidInputError for an invalid mesh or material.
+/// 6 (1e-3 s), holds 3 mm at 3 and 6 mm at 1.5; the pillow holds 6 mm at 1.5; the meniscus (measured with
+/// contacts by velocity projection, before the Lagrange multipliers in use) blew up at 4 and held 2 mm at 1.5
+/// (3.7e-5 s). Throws InvalidInputError for an invalid mesh or material.
 double stableTimeStep(const mesh::TetMesh& rest, double young, double poisson, double density);
 
 class BulletTissue {

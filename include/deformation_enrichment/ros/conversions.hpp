@@ -2,6 +2,7 @@
 // Conversions between ROS messages and core types. Mesh states travel as PointCloud2 with float32
 // x, y, z fields (one point per rest vertex, fixed order); topology travels once as pcl_msgs/PolygonMesh.
 #include <Eigen/Core>
+#include <geometry_msgs/PoseStamped.h>
 #include <pcl_msgs/PolygonMesh.h>
 #include <sensor_msgs/PointCloud2.h>
 
@@ -27,5 +28,8 @@ sensor_msgs::PointCloud2 cloudFromPositions(const Eigen::Matrix3Xf& positions, c
 mesh::TriangleMesh triangleMeshFromMessage(const pcl_msgs::PolygonMesh& message);
 
 pcl_msgs::PolygonMesh messageFromTriangleMesh(const mesh::TriangleMesh& mesh, const std_msgs::Header& header);
+
+/// A pose at `position` with the identity orientation (a tool sphere's centre, a point tip).
+geometry_msgs::PoseStamped poseAt(const Eigen::Vector3d& position, const std_msgs::Header& header);
 
 }  // namespace deformation_enrichment::ros_layer

@@ -66,4 +66,14 @@ pcl_msgs::PolygonMesh messageFromTriangleMesh(const mesh::TriangleMesh& mesh, co
   return message;
 }
 
+geometry_msgs::PoseStamped poseAt(const Eigen::Vector3d& position, const std_msgs::Header& header) {
+  geometry_msgs::PoseStamped pose;
+  pose.header = header;
+  pose.pose.position.x = position.x();
+  pose.pose.position.y = position.y();
+  pose.pose.position.z = position.z();
+  pose.pose.orientation.w = 1.0;
+  return pose;
+}
+
 }  // namespace deformation_enrichment::ros_layer
