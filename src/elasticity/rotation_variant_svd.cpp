@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include "deformation_enrichment/error.hpp"
@@ -13,13 +14,16 @@ namespace {
 // One-sided (Hestenes) Jacobi rotation of columns p, q of A (and V): A <- A J makes a_p and a_q
 // orthogonal. The rotation is the symmetric Jacobi rotation of the 2x2 block of A^T A, but computed from
 // the current columns each time, so no squared condition number enters: small singular values keep
-// their relative accuracy. Returns false if the pair is already orthogonal to 1e-16 relative.
+// their relative accuracy. Returns false if the pair is already orthogonal to sqrt(3) eps relative (the
+// convergence test of LAPACK's one-sided Jacobi, dgesvj, for 3 rows: a tighter one is below rounding and
+// can rotate by rounding noise until the sweep cap).
 template <int p, int q>
 inline bool rotateColumns(Eigen::Matrix3d& A, Eigen::Matrix3d& V) {
+  constexpr double kTolerance = 1.7320508075688772 * std::numeric_limits<double>::epsilon();
   const double alpha = A.col(p).squaredNorm();
   const double beta = A.col(q).squaredNorm();
   const double gamma = A.col(p).dot(A.col(q));
-  if (gamma * gamma <= 1e-32 * alpha * beta) return false;
+  if (gamma * gamma <= kTolerance * kTolerance * alpha * beta) return false;
   // tan(theta) = t = 2 gamma sgn(d) / (|d| + r), cos(theta) = sqrt((1 + |d| / r) / 2) with d = beta - alpha,
   // r = sqrt(d^2 + 4 gamma^2): the smaller Jacobi angle, with a sqrt-div-sqrt dependency chain only.
   const double d = beta - alpha;
@@ -61,7 +65,7 @@ RotationVariantSvd rotationVariantSvd(const Eigen::Matrix3d& F) {
   RotationVariantSvd out;
   out.V.setIdentity();
   // Cyclic one-sided Jacobi: A V converges to [sigma_0 u_0 | sigma_1 u_1 | sigma_2 u_2]. Quadratic
-  // convergence, 3-6 sweeps in practice; the cap of 32 is a safeguard.
+  // convergence, 3-5 sweeps in practice; the cap of 32 is a safeguard.
   for (int sweep = 0; sweep < 32; ++sweep) {
     bool rotated = rotateColumns<0, 1>(A, out.V);
     rotated = rotateColumns<0, 2>(A, out.V) || rotated;

@@ -217,10 +217,7 @@ Matrix9d StableNeoHookean::projectedHessian(const Eigen::Matrix3d& F, const Rota
   // Scaling block ([Smith18 §4.3]): clamp only if Sylvester's criterion says it is not PD.
   Eigen::Matrix3d A = scalingBlock(sig, k);
   const double minor2 = A(0, 0) * A(1, 1) - A(0, 1) * A(0, 1);
-  if (!(A(0, 0) > 0.0 && minor2 > 0.0 && A.determinant() > 0.0)) {
-    const SymmetricEigen3 eig = symmetricEigen3(A);
-    A = eig.vectors * eig.values.cwiseMax(0.0).asDiagonal() * eig.vectors.transpose();
-  }
+  if (!(A(0, 0) > 0.0 && minor2 > 0.0 && A.determinant() > 0.0)) A = psdProjection3(A);
   for (int n = 0; n < 3; ++n) X.col(4 * n) = K.col(0) * A(0, n) + K.col(4) * A(1, n) + K.col(8) * A(2, n);
   // Twist (antisymmetric, a + s sigma_k) and flip (symmetric, a - s sigma_k) modes of pair (i, j): the
   // clamped 2x2 block is [[p, q], [q, p]] with p = (twist+ + flip+) / 2, q = (flip+ - twist+) / 2.
@@ -234,8 +231,13 @@ Matrix9d StableNeoHookean::projectedHessian(const Eigen::Matrix3d& F, const Rota
     X.col(ij) = p * K.col(ij) + q * K.col(ji);
     X.col(ji) = q * K.col(ij) + p * K.col(ji);
   }
+  // H = X K^T column by column (9 axpys of length 9 each; Eigen's generic 9x9 lazy product is slower).
   Matrix9d H;
-  H.noalias() = X.lazyProduct(K.transpose());
+  for (int b = 0; b < 9; ++b) {
+    Vector9d column = K(b, 0) * X.col(0);
+    for (int c = 1; c < 9; ++c) column += K(b, c) * X.col(c);
+    H.col(b) = column;
+  }
   return H;
 }
 

@@ -4,6 +4,7 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 namespace deformation_enrichment::elasticity {
@@ -20,52 +21,75 @@ Eigen::Vector3d anyOrthogonal(const Eigen::Vector3d& u) {
   return w * (1.0 / w.norm());
 }
 
-}  // namespace
+// The isolated eigenpair of a symmetric A (the eigenvalue farthest from the mean), in A's rescaled units.
+struct IsolatedEigenpair {
+  Eigen::Matrix3d B;      ///< deviatoric part of the rescaled A: A / scale - m I
+  double m = 0.0;         ///< mean eigenvalue of A / scale
+  double shift = 0.0;     ///< isolated eigenvalue of B (its eigenvalue of A / scale is m + shift)
+  Eigen::Vector3d e;      ///< its unit eigenvector
+  double p = 0.0;         ///< sqrt(tr(B^2) / 6), B's spread
+  double scale = 1.0;     ///< A was divided by this (1 in the normal range)
+  bool multipleOfIdentity = false;  ///< A = m I: no isolated eigenvalue
+};
 
-SymmetricEigen3 symmetricEigen3(const Eigen::Matrix3d& Ain) {
-  Eigen::Matrix3d A;
-  A << Ain(0, 0), Ain(0, 1), Ain(0, 2),  //
+IsolatedEigenpair isolatedEigenpair(const Eigen::Matrix3d& Ain) {
+  IsolatedEigenpair out;
+  Eigen::Matrix3d& B = out.B;
+  B << Ain(0, 0), Ain(0, 1), Ain(0, 2),  //
       Ain(0, 1), Ain(1, 1), Ain(1, 2),   //
       Ain(0, 2), Ain(1, 2), Ain(2, 2);
   // Squares of entries appear below: rescale outside [1e-100, 1e100] (no scaling in the normal range).
-  const double maxAbs = A.cwiseAbs().maxCoeff();
-  const bool rescale = maxAbs > 1e100 || (maxAbs < 1e-100 && maxAbs > 0.0);
-  if (rescale) A /= maxAbs;
-
-  SymmetricEigen3 out;
+  const double maxAbs = B.cwiseAbs().maxCoeff();
+  if (maxAbs > 1e100 || (maxAbs < 1e-100 && maxAbs > 0.0)) {
+    out.scale = maxAbs;
+    B /= maxAbs;
+  }
   // Deviatoric part B = A - m I, normalised by p = sqrt(tr(B^2) / 6): the eigenvalues of B / p are
   // 2 cos(phi + 2 pi k / 3) with phi = acos(det(B / p) / 2) / 3 (trigonometric solution of the cubic).
-  const double m = A.trace() / 3.0;
-  Eigen::Matrix3d B = A;
-  B.diagonal().array() -= m;
+  out.m = B.trace() / 3.0;
+  B.diagonal().array() -= out.m;
   const double q = (B.diagonal().squaredNorm() + 2.0 * (B(0, 1) * B(0, 1) + B(0, 2) * B(0, 2) + B(1, 2) * B(1, 2))) / 6.0;
-  if (q == 0.0) {  // A = m I
-    out.values.setConstant(rescale ? m * maxAbs : m);
-    out.vectors.setIdentity();
+  if (q == 0.0) {
+    out.multipleOfIdentity = true;
     return out;
   }
-  const double p = std::sqrt(q);
+  const double p = out.p = std::sqrt(q);
   const double r = std::clamp(0.5 * (B * (1.0 / p)).determinant(), -1.0, 1.0);
   const double phi = std::acos(r) / 3.0;
   // Only the eigenvalue farthest from the mean is taken from the formula: it is isolated (gap >= sqrt(3) p)
-  // and insensitive to rounding in r. The formula splits a (near-)double pair only to sqrt(eps), so the
-  // other two come from the exact 2x2 problem on the orthogonal complement instead.
+  // and insensitive to rounding in r. The formula splits a (near-)double pair only to sqrt(eps), so
+  // symmetricEigen3 takes the other two from the exact 2x2 problem on the orthogonal complement instead.
   const bool largestIsolated = r >= 0.0;
-  const double shift = 2.0 * p * std::cos(largestIsolated ? phi : phi + kTwoPiOverThree);  // lambda - m
+  out.shift = 2.0 * p * std::cos(largestIsolated ? phi : phi + kTwoPiOverThree);
   Eigen::Matrix3d M = B;
-  M.diagonal().array() -= shift;
+  M.diagonal().array() -= out.shift;
   // Null vector of the rank-2 matrix M: the largest cross product of two of its rows.
   const Eigen::Vector3d c01 = M.row(0).cross(M.row(1)), c02 = M.row(0).cross(M.row(2)),
                         c12 = M.row(1).cross(M.row(2));
   const double n01 = c01.squaredNorm(), n02 = c02.squaredNorm(), n12 = c12.squaredNorm();
-  Eigen::Vector3d e;
   if (n01 >= n02 && n01 >= n12) {
-    e = c01 * (1.0 / std::sqrt(n01));
+    out.e = c01 * (1.0 / std::sqrt(n01));
   } else if (n02 >= n12) {
-    e = c02 * (1.0 / std::sqrt(n02));
+    out.e = c02 * (1.0 / std::sqrt(n02));
   } else {
-    e = c12 * (1.0 / std::sqrt(n12));
+    out.e = c12 * (1.0 / std::sqrt(n12));
   }
+  return out;
+}
+
+}  // namespace
+
+SymmetricEigen3 symmetricEigen3(const Eigen::Matrix3d& A) {
+  const IsolatedEigenpair iso = isolatedEigenpair(A);
+  SymmetricEigen3 out;
+  if (iso.multipleOfIdentity) {
+    out.values.setConstant(iso.m * iso.scale);
+    out.vectors.setIdentity();
+    return out;
+  }
+  const Eigen::Matrix3d& B = iso.B;
+  const Eigen::Vector3d& e = iso.e;
+  const double m = iso.m, shift = iso.shift;
   const Eigen::Vector3d b1 = anyOrthogonal(e);
   const Eigen::Vector3d b2 = e.cross(b1);
   // 2x2 block of B on (b1, b2), diagonalised by one exact Jacobi rotation: tan = t = 2 a12 sgn(d) / (|d| + h),
@@ -99,8 +123,37 @@ SymmetricEigen3 symmetricEigen3(const Eigen::Matrix3d& Ain) {
     out.vectors.col(k) = vectors[k];
   }
   if (odd) out.vectors.col(0) *= -1.0;
-  if (rescale) out.values *= maxAbs;
+  out.values *= iso.scale;
   return out;
+}
+
+Eigen::Matrix3d psdProjection3(const Eigen::Matrix3d& A) {
+  const IsolatedEigenpair iso = isolatedEigenpair(A);
+  if (iso.multipleOfIdentity) return Eigen::Matrix3d::Identity() * (std::max(iso.m, 0.0) * iso.scale);
+  // The other two eigenvalues (in A's terms) have the sum tr(A) - isolated and the product
+  // e_2(A) - isolated * sum, e_2 being the sum of A's principal 2x2 minors. If that product's sign is
+  // certain beyond its rounding error and both share a sign, the projection changes at most the isolated
+  // eigenvalue and the pair needs no eigenvectors; otherwise the full decomposition decides.
+  const Eigen::Matrix3d As = iso.B + iso.m * Eigen::Matrix3d::Identity();
+  const double isolated = iso.m + iso.shift;
+  const double pairSum = 2.0 * iso.m - iso.shift;
+  const double terms[6] = {As(0, 0) * As(1, 1), As(0, 0) * As(2, 2), As(1, 1) * As(2, 2),
+                           -As(0, 1) * As(0, 1), -As(0, 2) * As(0, 2), -As(1, 2) * As(1, 2)};
+  double e2 = 0.0, e2Magnitude = 0.0;
+  for (double t : terms) {
+    e2 += t;
+    e2Magnitude += std::abs(t);
+  }
+  const double pairProduct = e2 - isolated * pairSum;
+  const double roundingBound = 64.0 * std::numeric_limits<double>::epsilon() *
+                               (e2Magnitude + (std::abs(isolated) + std::abs(pairSum)) * (std::abs(iso.m) + iso.p));
+  if (pairProduct > roundingBound) {
+    const Eigen::Matrix3d eeT = iso.e * iso.e.transpose();
+    if (pairSum > 0.0) return (As - std::min(isolated, 0.0) * eeT) * iso.scale;  // pair > 0
+    return (std::max(isolated, 0.0) * iso.scale) * eeT;                          // pair < 0
+  }
+  const SymmetricEigen3 eig = symmetricEigen3(A);  // one eigenvalue of each sign in the pair
+  return eig.vectors * eig.values.cwiseMax(0.0).asDiagonal() * eig.vectors.transpose();
 }
 
 }  // namespace deformation_enrichment::elasticity

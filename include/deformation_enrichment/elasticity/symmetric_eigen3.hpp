@@ -17,4 +17,9 @@ struct SymmetricEigen3 {
 /// |A V - V diag(values)| is a small multiple of machine epsilon times |A|.
 SymmetricEigen3 symmetricEigen3(const Eigen::Matrix3d& A);
 
+/// The nearest positive semi-definite matrix to the symmetric A (its negative eigenvalues set to 0), in
+/// the Frobenius norm. Where the two eigenvalues other than the isolated one share a sign, only the
+/// isolated eigenpair is computed. Same requirements on A as symmetricEigen3.
+Eigen::Matrix3d psdProjection3(const Eigen::Matrix3d& A);
+
 }  // namespace deformation_enrichment::elasticity

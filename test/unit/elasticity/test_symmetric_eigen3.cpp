@@ -5,6 +5,8 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
 #include <random>
 
 #include "deformation_enrichment/elasticity/symmetric_eigen3.hpp"
@@ -54,3 +56,37 @@ TEST(SymmetricEigen3, MatchesEigenSelfAdjointSolverAndIsAccurate) {
   EXPECT_TRUE(zero.vectors.isIdentity(0.0));
 }
 
+
+// The PSD projection against Eigen's solver with the negative eigenvalues clamped: every sign pattern of
+// the spectrum, graded spectra where the pair's product cancels in the invariants (one eigenvalue 1e9
+// times the others), repeated eigenvalues, and the rescaled range.
+TEST(PsdProjection3, MatchesClampedEigenSolverForEverySignPattern) {
+  auto clamped = [](const Eigen::Matrix3d& A) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(A);
+    return Eigen::Matrix3d(es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() *
+                           es.eigenvectors().transpose());
+  };
+  std::mt19937 rng(61);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), exponent(-9.0, 9.0);
+  int pairsOfMixedSign = 0;
+  for (int n = 0; n < 4000; ++n) {
+    const Eigen::Matrix3d Q = Eigen::AngleAxisd(3.0 * unit(rng), Eigen::Vector3d(unit(rng), unit(rng), unit(rng)).normalized())
+                                  .toRotationMatrix();
+    Eigen::Vector3d lambda(unit(rng), unit(rng), unit(rng));
+    if (n % 3 == 1) lambda(n % 2) *= std::pow(10.0, exponent(rng));  // graded
+    if (n % 5 == 2) lambda(1) = lambda(0);                           // repeated
+    const Eigen::Matrix3d A = Q * lambda.asDiagonal() * Q.transpose();
+    const Eigen::Matrix3d P = psdProjection3(A);
+    EXPECT_LT((P - clamped(A)).norm(), 1e-14 * A.norm()) << "eigenvalues " << lambda.transpose();
+    std::sort(lambda.data(), lambda.data() + 3);
+    pairsOfMixedSign += lambda(0) < 0.0 && lambda(2) > 0.0;
+  }
+  EXPECT_GT(pairsOfMixedSign, 1000);
+  EXPECT_TRUE(psdProjection3(-2.0 * Eigen::Matrix3d::Identity()).isZero(0.0));
+  EXPECT_TRUE(psdProjection3(3.0 * Eigen::Matrix3d::Identity()).isApprox(3.0 * Eigen::Matrix3d::Identity()));
+  for (double scale : {1e-250, 1e250}) {
+    const Eigen::Matrix3d A = scale * Eigen::Matrix3d(Eigen::Vector3d(-2.0, 1.0, 3.0).asDiagonal());
+    const Eigen::Matrix3d expected = scale * Eigen::Matrix3d(Eigen::Vector3d(0.0, 1.0, 3.0).asDiagonal());
+    EXPECT_LT(((psdProjection3(A) - expected) / scale).norm(), 1e-14);
+  }
+}
