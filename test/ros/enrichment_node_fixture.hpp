@@ -167,11 +167,16 @@ protected:
     }, seconds);
   }
 
-  /// A bad state is dropped (no output with its stamp), logged with `fragment`, and the node survives.
-  void expectDroppedAndSurvived(const sensor_msgs::PointCloud2& bad, const std::string& fragment) {
+  /// A bad state is dropped (no output with its stamp), logged with `fragment`, counted once in /diagnostics
+  /// under "dropped mesh_state: <reason>", and the node survives.
+  void expectDroppedAndSurvived(const sensor_msgs::PointCloud2& bad, const std::string& fragment, const std::string& reason) {
+    const std::string key = "dropped mesh_state: " + reason;
+    const std::string before = diagnosticValue(key);
+    const std::string expected = std::to_string((before.empty() ? 0L : std::stol(before)) + 1);
     EXPECT_FALSE(roundTrip(bad, 1.0)) << "a bad state was published: " << fragment;
     EXPECT_TRUE(logged(fragment)) << "no error on /rosout containing '" << fragment << "'";
     EXPECT_TRUE(roundTrip(goodState())) << "the node did not recover after: " << fragment;
+    EXPECT_EQ(diagnosticAfterChange(key, expected), expected) << "the drop was not counted under its reason: " << fragment;
   }
 
   /// After a change: `expected` once a /diagnostics status received after this call shows it for `key`, else

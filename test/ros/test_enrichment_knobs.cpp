@@ -359,7 +359,7 @@ TEST_F(EnrichmentKnobsTest, RestMeshReplacedAtRunTimeKeepsEnrichingAndRejectsOld
   std_msgs::Header h = header();
   h.stamp = contactB + ros::Duration(0.1);
   EXPECT_FALSE(roundTrip(cloudFromPositions(dentedA.cast<float>(), h), 1.0)) << "a state of mesh A's size";
-  EXPECT_TRUE(logged(std::to_string(verticesA) + " points but the rest mesh has " + std::to_string(rest_.numVertices())));
+  EXPECT_TRUE(logged(std::to_string(verticesA) + " points, the rest mesh has " + std::to_string(rest_.numVertices())));
   EXPECT_GT(addedAt(dentedB, contactB, 0.2).cols(), 0) << "B keeps enriching after the rejected state";
 }
 

@@ -78,21 +78,22 @@ TEST_F(EnrichmentNodeTest, ABurstOfTenThousandStatesIsCountedAndSurvived) {
   EXPECT_GT(lost, 0);
 }
 
-TEST_F(EnrichmentNodeTest, BadMeshStatesAreLoggedDroppedAndSurvived) {
+TEST_F(EnrichmentNodeTest, BadMeshStatesAreLoggedDroppedCountedByReasonAndSurvived) {
   Eigen::Matrix3Xf tooFew = rest_.vertices.cast<float>().leftCols(rest_.numVertices() - 1);
-  expectDroppedAndSurvived(cloudFromPositions(tooFew, header()), "points but the rest mesh has");
+  expectDroppedAndSurvived(cloudFromPositions(tooFew, header()), "points, the rest mesh has",
+                           "point count differs from the rest mesh");
 
   sensor_msgs::PointCloud2 noZ = goodState();
   noZ.fields.pop_back();  // x, y only
-  expectDroppedAndSurvived(noZ, "has no 'z' field");
+  expectDroppedAndSurvived(noZ, "has no 'z' field", "invalid point cloud");
 
   Eigen::Matrix3Xf withNaN = rest_.vertices.cast<float>();
   withNaN(1, 7) = std::numeric_limits<float>::quiet_NaN();
-  expectDroppedAndSurvived(cloudFromPositions(withNaN, header()), "point 7 is not finite");
+  expectDroppedAndSurvived(cloudFromPositions(withNaN, header()), "point 7 is not finite", "invalid mesh state");
 
   sensor_msgs::PointCloud2 truncated = goodState();
   truncated.data.resize(truncated.data.size() / 2);
-  expectDroppedAndSurvived(truncated, "does not match");
+  expectDroppedAndSurvived(truncated, "does not match", "invalid point cloud");
 }
 
 TEST_F(EnrichmentNodeTest, EmptyOrBrokenRestMeshIsRejectedAndTheOldOneKept) {

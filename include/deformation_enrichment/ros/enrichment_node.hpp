@@ -80,7 +80,9 @@ private:
   /// rest_mesh topic). Logs what it uses or why not.
   std::optional<enrichment::RestGeometry> startupRest();
   /// Logs (throttled per input and kind of problem) why an input was dropped, and counts it.
-  void reject(const std::string& input, const std::string& why);
+  /// Counts a dropped input under its input and reason (a short fixed label, one diagnostics entry each),
+  /// remembers `detail` as the last error and logs it, throttled per input and reason.
+  void reject(const std::string& input, const std::string& reason, const std::string& detail);
 
   ros::NodeHandle nh_, privateNh_;
   EnrichmentNodeParameters parameters_;
@@ -113,7 +115,7 @@ private:
   std::vector<TrackedContact> lastTouching_;
   // Statistics for diagnostics.
   uint64_t statesIn_ = 0, statesOut_ = 0;
-  std::map<std::string, uint64_t> dropped_;  // by input name
+  std::map<std::string, uint64_t> dropped_;  // by "input: reason"
   SequenceGaps statesLost_;                  // mesh states lost in the queues before the callback
   std::string lastError_;
   double lastComputeMs_ = 0.0, maxComputeMs_ = 0.0;

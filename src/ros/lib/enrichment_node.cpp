@@ -1,7 +1,6 @@
 #include "deformation_enrichment/ros/enrichment_node.hpp"
 
 #include <algorithm>
-#include <cctype>
 
 #include "deformation_enrichment/descriptors/site_segmentation.hpp"
 #include "deformation_enrichment/error.hpp"
@@ -74,17 +73,15 @@ EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
   diagnosticsTimer_ = nh_.createTimer(ros::Duration(0.5), [this](const ros::TimerEvent&) { diagnostics_.update(); });
 }
 
-void EnrichmentNode::reject(const std::string& input, const std::string& why) {
-  ++dropped_[input];
-  lastError_ = input + ": " + why;
-  // Throttle per input and kind of problem (digits stripped), so distinct problems are all reported.
-  std::string kind = input + why;
-  kind.erase(std::remove_if(kind.begin(), kind.end(), [](unsigned char c) { return std::isdigit(c); }), kind.end());
+void EnrichmentNode::reject(const std::string& input, const std::string& reason, const std::string& detail) {
+  const std::string key = input + ": " + reason;
+  ++dropped_[key];
+  lastError_ = key + " (" + detail + ")";
   const ros::WallTime now = ros::WallTime::now();
-  auto& last = lastLogged_[kind];
+  auto& last = lastLogged_[key];
   if (last.isZero() || (now - last).toSec() >= parameters_.errorThrottle) {
     last = now;
-    ROS_ERROR("dropped %s: %s (keeping the last good state)", input.c_str(), why.c_str());
+    ROS_ERROR("dropped %s: %s: %s (keeping the last good state)", input.c_str(), reason.c_str(), detail.c_str());
   }
 }
 
@@ -94,7 +91,7 @@ void EnrichmentNode::onRestMesh(const pcl_msgs::PolygonMeshConstPtr& message) {
     session_->setRestGeometry({triangleMeshFromMessage(*message), sceneVolume_, "topic rest_mesh"});
   } catch (const Error& e) {
     std::lock_guard<std::mutex> lock(mutex_);
-    reject("rest_mesh", e.what());
+    reject("rest_mesh", "refused", e.what());
   }
 }
 
@@ -108,14 +105,15 @@ void EnrichmentNode::onMeshState(const ros::MessageEvent<const sensor_msgs::Poin
   try {
     positionsFromCloud(*message, positions);
   } catch (const Error& e) {
-    return reject("mesh_state", e.what());
+    return reject("mesh_state", "invalid point cloud", e.what());
   }
   const std::shared_ptr<const enrichment::RestSurface> rest = session_->restFor(positions.cols());
   if (!rest) {
     const auto newest = session_->newestRest();
-    return reject("mesh_state", newest ? "mesh state has " + std::to_string(positions.cols()) + " points but the rest mesh has " +
-                                             std::to_string(newest->geometry.surface.numVertices())
-                                       : "no rest mesh yet (publish rest_mesh or set ~scene or ~rest_mesh_file)");
+    if (!newest) return reject("mesh_state", "no rest mesh yet", "publish rest_mesh or set ~scene or ~rest_mesh_file");
+    return reject("mesh_state", "point count differs from the rest mesh",
+                  std::to_string(positions.cols()) + " points, the rest mesh has " +
+                      std::to_string(newest->geometry.surface.numVertices()) + " vertices");
   }
   meshFrame_ = message->header.frame_id;
   std::vector<TrackedContact> touching = touchingTools(message->header.stamp, positions, *rest);
@@ -123,10 +121,12 @@ void EnrichmentNode::onMeshState(const ros::MessageEvent<const sensor_msgs::Poin
   for (const TrackedContact& contact : touching) tools.push_back({contact.toolId, contact.position});
   try {
     const enrichment::FrameResult& result = session_->enrich(positions, tools, message->header.stamp.toSec());
-    if (!result.error.empty()) reject("contacts", "enrichment skipped for this state: " + result.error);
+    if (!result.error.empty()) reject("contacts", "enrichment skipped for this state", result.error);
     publish(message, result, touching, start);
+  } catch (const InvalidInputError& e) {
+    reject("mesh_state", "invalid mesh state", e.what());
   } catch (const Error& e) {
-    reject("mesh_state", e.what());
+    reject("mesh_state", "enrichment failed", e.what());
   }
 }
 
@@ -165,11 +165,11 @@ void EnrichmentNode::publish(const sensor_msgs::PointCloud2ConstPtr& message, co
 
 void EnrichmentNode::onContacts(const ToolContactArrayConstPtr& message) {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (meshFrame_.empty()) return reject("contacts", "no mesh state yet, so no mesh frame to place contacts in");
+  if (meshFrame_.empty()) return reject("contacts", "no mesh state yet", "no mesh frame to place contacts in");
   try {
     contacts_.updateFromArray(*message, meshFrame_);
   } catch (const Error& e) {
-    reject("contacts", e.what());
+    reject("contacts", "invalid contact", e.what());
   }
 }
 
@@ -179,7 +179,7 @@ void EnrichmentNode::updateToolPose(const geometry_msgs::PoseStamped& pose, cons
     ContactTracker::linkPose(pose, source.spec.id, source.tip);
     toolPoses_[source.spec.id] = {pose, &source};
   } catch (const Error& e) {
-    reject(source.spec.topic, e.what());
+    reject(source.spec.topic, "invalid pose", e.what());
   }
 }
 
@@ -188,6 +188,8 @@ std::vector<TrackedContact> EnrichmentNode::touchingTools(const ros::Time& stamp
   for (auto it = toolPoses_.begin(); it != toolPoses_.end();) {
     const auto& [pose, source] = it->second;
     if (pose.header.stamp > stamp + ros::Duration(1.0)) {
+      reject(source->spec.topic, "pose stamped over 1 s after the mesh state",
+             "pose " + std::to_string(pose.header.stamp.toSec()) + " s, state " + std::to_string(stamp.toSec()) + " s");
       it = toolPoses_.erase(it);
       continue;
     }
@@ -197,7 +199,7 @@ std::vector<TrackedContact> EnrichmentNode::touchingTools(const ros::Time& stamp
       contacts_.updateFromToolPose(pose, source->spec.id, meshFrame_, positions, rest.normals, parameters_.toolContactDistance,
                                    source->tip, source->tip.isPoint() ? nullptr : &rest.geometry.surface.triangles);
     } catch (const Error& e) {
-      reject(source->spec.topic, e.what());
+      reject(source->spec.topic, "no contact from this pose", e.what());
     }
     ++it;
   }
@@ -260,8 +262,8 @@ void EnrichmentNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& statu
   const enrichment::EnrichmentKnobs knobs = session_->knobs();
   std::lock_guard<std::mutex> lock(mutex_);
   uint64_t droppedTotal = 0;
-  for (const auto& [input, count] : dropped_) {
-    status.add("dropped " + input, count);
+  for (const auto& [inputAndReason, count] : dropped_) {
+    status.add("dropped " + inputAndReason, count);
     droppedTotal += count;
   }
   if (session.restVertices == 0 && !session.rebuilding) {
