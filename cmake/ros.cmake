@@ -122,6 +122,9 @@ if(CATKIN_ENABLE_TESTING)
   endforeach()
   add_test(NAME rosrun_roslaunch COMMAND ${CATKIN_DEVEL_PREFIX}/env.sh bash ${PROJECT_SOURCE_DIR}/test/ros/rosrun_roslaunch.sh
     ${CATKIN_DEVEL_PREFIX}/${CATKIN_PACKAGE_BIN_DESTINATION} ${PROJECT_SOURCE_DIR}/test/data/slab_tap.bag ${DE_RUN_EXECUTABLES})
+  # The master restarts under a running enrichment.launch (process and nodelet): respawned, registered, configured.
+  add_test(NAME master_restart COMMAND ${CATKIN_DEVEL_PREFIX}/env.sh bash ${PROJECT_SOURCE_DIR}/test/ros/master_restart.sh)
+  set_tests_properties(master_restart PROPERTIES ENVIRONMENT ROS_HOME=${CMAKE_BINARY_DIR}/ros_home TIMEOUT 600)
   # The README's own-workspace path (catkin_make in a fresh catkin_ws), from a clean environment.
   add_test(NAME catkin_workspace COMMAND env -i PATH=/usr/bin:/bin HOME=$ENV{HOME} ROS_HOME=${CMAKE_BINARY_DIR}/ros_home
     bash ${PROJECT_SOURCE_DIR}/test/ros/catkin_workspace.sh ${PROJECT_SOURCE_DIR})

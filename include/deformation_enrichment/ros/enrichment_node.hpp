@@ -30,6 +30,7 @@
 #include "deformation_enrichment/enrichment/tool_tip.hpp"
 #include "deformation_enrichment/ros/contact_tracker.hpp"
 #include "deformation_enrichment/ros/enrichment_node_parameters.hpp"
+#include "deformation_enrichment/ros/master_watch.hpp"
 #include "deformation_enrichment/ros/sequence_gaps.hpp"
 #include "deformation_enrichment/ros/tool_pose_sources.hpp"
 
@@ -120,6 +121,7 @@ private:
   std::string lastError_;
   double lastComputeMs_ = 0.0, maxComputeMs_ = 0.0;
   std::map<std::string, ros::WallTime> lastLogged_;
+  std::unique_ptr<MasterWatch> masterWatch_;  // last: stops first
 };
 
 }  // namespace deformation_enrichment::ros_layer

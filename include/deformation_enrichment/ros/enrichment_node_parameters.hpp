@@ -25,6 +25,7 @@ struct EnrichmentNodeParameters {
   MarkerOptions markers;
   double markerRate = 5.0;
   double errorThrottle = 1.0;
+  double masterCheckPeriod = 1.0;  ///< ~master_check_period [s]: how often the master is asked (0: never)
   double minRate = 1.0, maxRate = 1000.0;
 };
 

@@ -71,6 +71,7 @@ EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
   if (parameters_.markerRate > 0.0)
     markerTimer_ = nh_.createTimer(ros::Duration(1.0 / parameters_.markerRate), &EnrichmentNode::onMarkerTimer, this);
   diagnosticsTimer_ = nh_.createTimer(ros::Duration(0.5), [this](const ros::TimerEvent&) { diagnostics_.update(); });
+  masterWatch_ = std::make_unique<MasterWatch>(privateNh_, parameters_.masterCheckPeriod);
 }
 
 void EnrichmentNode::reject(const std::string& input, const std::string& reason, const std::string& detail) {

@@ -90,6 +90,7 @@ EnrichmentNodeParameters readEnrichmentNodeParameters(const ros::NodeHandle& nh)
   p.markers = markerOptionsFromParams(nh);
   p.markerRate = checked(nh, "marker_rate", p.markerRate, nonNegative, ">= 0 (0: no markers)");
   p.errorThrottle = checked(nh, "error_throttle", p.errorThrottle, nonNegative, ">= 0");
+  p.masterCheckPeriod = checked(nh, "master_check_period", p.masterCheckPeriod, nonNegative, ">= 0 (0: never)");
   p.minRate = checked(nh, "expected_rate_min", p.minRate, nonNegative, ">= 0");
   p.maxRate = checked(nh, "expected_rate_max", p.maxRate, [&](double v) { return v >= p.minRate && std::isfinite(v); },
                       ">= expected_rate_min");
