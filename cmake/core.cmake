@@ -2,7 +2,7 @@
 # benchmarks. Included by CMakeLists.txt in both build modes (catkin, or plain CMake with DE_CORE_ONLY=ON).
 # Sources are collected per module folder, so adding a file to src/<module>/ needs no edit here.
 #
-#   deformation_enrichment_geometry     mesh, hermite, kinematics
+#   deformation_enrichment_geometry     mesh, hermite, kinematics, numerics (the sparse Cholesky of every Newton solve)
 #   deformation_enrichment_descriptors  descriptors                 -> geometry
 #   deformation_enrichment_runtime      scene_file, scenes, examples, enrichment -> descriptors (the node reads
 #                                       a scene's surface and volume)
@@ -25,7 +25,7 @@ find_library(CHOLMOD_LIBRARY cholmod)
 set(DE_WARNINGS -Wall -Wextra)
 
 # Module folder -> library of its layer (read by de_link_core_for below).
-set(DE_LAYER_geometry mesh hermite kinematics)
+set(DE_LAYER_geometry mesh hermite kinematics numerics)
 set(DE_LAYER_descriptors descriptors)
 set(DE_LAYER_runtime scene_file scenes examples enrichment)
 set(DE_LAYER_simulation elasticity acquisition)
@@ -103,12 +103,14 @@ if(OpenMP_CXX_FOUND)
     target_link_libraries(deformation_enrichment_${layer} PUBLIC OpenMP::OpenMP_CXX)
   endforeach()
 endif()
+if(OpenMP_CXX_FOUND)
+  target_link_libraries(deformation_enrichment_geometry PRIVATE OpenMP::OpenMP_CXX)  # numerics: omp_set_dynamic
+endif()
+# CHOLMOD stays private to numerics/sparse_cholesky.cpp; DE_HAVE_CHOLMOD tells tests and tools it is there.
 if(CHOLMOD_INCLUDE_DIR AND CHOLMOD_LIBRARY)
-  foreach(layer simulation shape_space)
-    target_include_directories(deformation_enrichment_${layer} SYSTEM PUBLIC ${CHOLMOD_INCLUDE_DIR})
-    target_link_libraries(deformation_enrichment_${layer} PUBLIC ${CHOLMOD_LIBRARY})
-    target_compile_definitions(deformation_enrichment_${layer} PUBLIC DE_HAVE_CHOLMOD=1)
-  endforeach()
+  target_include_directories(deformation_enrichment_geometry SYSTEM PRIVATE ${CHOLMOD_INCLUDE_DIR})
+  target_link_libraries(deformation_enrichment_geometry PRIVATE ${CHOLMOD_LIBRARY})
+  target_compile_definitions(deformation_enrichment_geometry PUBLIC DE_HAVE_CHOLMOD=1)
 endif()
 
 # Links `target` to the core layers whose headers its sources include (tools, tests and benchmarks may use

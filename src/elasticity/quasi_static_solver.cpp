@@ -1,14 +1,9 @@
 #include "deformation_enrichment/elasticity/quasi_static_solver.hpp"
 
-#include <Eigen/SparseCholesky>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <sstream>
-
-#ifdef DE_HAVE_CHOLMOD
-#include <Eigen/CholmodSupport>
-#endif
 
 #include "deformation_enrichment/error.hpp"
 
@@ -40,16 +35,14 @@ const char* toString(SolverStatus status) {
 /// The reduced system of one constraint set: dof map, Hessian storage (lower triangle) and the
 /// factorisation, whose symbolic analysis is reused while the constrained vertex set stays the same.
 struct QuasiStaticSolver::Linear {
-  LinearSolverKind kind;
+  explicit Linear(numerics::SparseCholeskyBackend backend) : cholesky(backend) {}
+
   Eigen::VectorXi dofMap;
   std::vector<int> freeDofs;  ///< global dof of each reduced row
   Eigen::SparseMatrix<double> H;       ///< projected Hessian (lower triangle)
   Eigen::SparseMatrix<double> Hexact;  ///< exact Hessian, same pattern (used near the solution)
   std::vector<Eigen::Index> diagonal;  ///< value index of H(i, i)
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt;
-#ifdef DE_HAVE_CHOLMOD
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> cholmod;
-#endif
+  numerics::SparseCholesky cholesky;
 
   void prepare(const TetFem& fem, const Eigen::VectorXi& map) {
     if (map.size() == dofMap.size() && map == dofMap) return;
@@ -61,54 +54,15 @@ struct QuasiStaticSolver::Linear {
       if (dofMap[d] >= 0) freeDofs[static_cast<std::size_t>(dofMap[d])] = static_cast<int>(d);
     diagonal.resize(static_cast<std::size_t>(H.cols()));
     for (Eigen::Index c = 0; c < H.cols(); ++c) diagonal[static_cast<std::size_t>(c)] = H.outerIndexPtr()[c];  // lower: first entry
-    if (kind == LinearSolverKind::SimplicialLDLT) {
-      ldlt.analyzePattern(H);
-    } else {
-#ifdef DE_HAVE_CHOLMOD
-      cholmod.cholmod().print = 0;  // a non-positive-definite attempt is handled here, not printed
-      cholmod.analyzePattern(H);
-#endif
-    }
   }
 
   /// Factorises M + shift I (M has the pattern of H); true if positive definite.
-  bool factorize(Eigen::SparseMatrix<double>& M, double shift) {
-    for (Eigen::Index i : diagonal) M.valuePtr()[i] += shift;
-    bool ok = false;
-    if (kind == LinearSolverKind::SimplicialLDLT) {
-      ldlt.factorize(M);
-      ok = ldlt.info() == Eigen::Success && ldlt.vectorD().minCoeff() > 0.0;
-    } else {
-#ifdef DE_HAVE_CHOLMOD
-      cholmod.factorize(M);
-      ok = cholmod.info() == Eigen::Success;
-#endif
-    }
-    for (Eigen::Index i : diagonal) M.valuePtr()[i] -= shift;
-    return ok;
-  }
-
-  Eigen::VectorXd solve(const Eigen::VectorXd& rhs) {
-    if (kind == LinearSolverKind::SimplicialLDLT) return ldlt.solve(rhs);
-#ifdef DE_HAVE_CHOLMOD
-    return cholmod.solve(rhs);
-#else
-    return Eigen::VectorXd();
-#endif
-  }
+  bool factorize(const Eigen::SparseMatrix<double>& M, double shift) { return cholesky.factorize(M, shift); }
+  Eigen::VectorXd solve(const Eigen::VectorXd& rhs) const { return cholesky.solve(rhs); }
 };
 
 QuasiStaticSolver::QuasiStaticSolver(const TetFem& fem, SolverSettings settings)
-    : fem_(fem), settings_(std::move(settings)), linear_(std::make_unique<Linear>()) {
-  LinearSolverKind kind = settings_.linearSolver;
-#ifdef DE_HAVE_CHOLMOD
-  if (kind == LinearSolverKind::Auto) kind = LinearSolverKind::Cholmod;
-#else
-  if (kind == LinearSolverKind::Cholmod)
-    throw InvalidInputError("QuasiStaticSolver: CHOLMOD requested but the library was built without it");
-  if (kind == LinearSolverKind::Auto) kind = LinearSolverKind::SimplicialLDLT;
-#endif
-  linear_->kind = kind;
+    : fem_(fem), settings_(std::move(settings)), linear_(std::make_unique<Linear>(settings_.linearSolver)) {
   if (settings_.maxIterations < 0 || !(settings_.relativeForceTolerance >= 0.0) || settings_.maxLineSearchSteps < 1 ||
       !(settings_.armijo > 0.0 && settings_.armijo < 1.0) || !(settings_.maxSeconds > 0.0) ||
       !(settings_.exactHessianBelow >= 0.0) || !(settings_.reuseContraction >= 0.0 && settings_.reuseContraction < 1.0))

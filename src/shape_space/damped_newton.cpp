@@ -9,7 +9,7 @@
 #include <Eigen/Cholesky>
 
 #include "deformation_enrichment/error.hpp"
-#include "sparse_cholesky.hpp"
+#include "deformation_enrichment/numerics/sparse_cholesky.hpp"
 
 namespace deformation_enrichment::shape_space {
 namespace {
@@ -22,7 +22,7 @@ constexpr int kHalvings = 30;          // Armijo backtracking per attempt
 constexpr double kArmijo = 1e-4;
 
 // Cholesky factorisation of H + shift I; fails for indefinite matrices (the caller then raises the shift).
-// Dense here, sparse in sparse_cholesky.hpp.
+// Dense here, sparse in numerics::SparseCholesky.
 template <class Matrix>
 class ShiftedCholesky;
 
@@ -42,7 +42,7 @@ private:
 };
 
 template <>
-class ShiftedCholesky<Sparse> : public detail::SparseCholesky {};
+class ShiftedCholesky<Sparse> : public numerics::SparseCholesky {};
 
 double meanAbsDiagonal(const Eigen::MatrixXd& h) { return std::max(h.diagonal().cwiseAbs().mean(), 1e-300); }
 double meanAbsDiagonal(const Sparse& h) { return std::max(Eigen::VectorXd(h.diagonal()).cwiseAbs().mean(), 1e-300); }

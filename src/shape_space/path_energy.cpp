@@ -7,9 +7,9 @@
 #include <Eigen/SparseCore>
 
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/numerics/sparse_cholesky.hpp"
 #include "deformation_enrichment/shape_space/blas_threads.hpp"
 #include "parallel_for.hpp"
-#include "sparse_cholesky.hpp"
 
 namespace deformation_enrichment::shape_space {
 
@@ -62,11 +62,11 @@ std::vector<Eigen::VectorXd> flowTangents(const std::vector<Eigen::VectorXd>& gr
   // cores). One factorisation per thread; each analyses the pattern once for all its shapes.
   const bool parallel = gradients.size() > 1 && gradients.front().size() >= 3 * detail::kParallelVertices &&
                         openBlasThreads() <= 1;
-  std::vector<detail::SparseCholesky> factorisations(parallel ? size_t(detail::maxThreads()) : 1);
+  std::vector<numerics::SparseCholesky> factorisations(parallel ? size_t(detail::maxThreads()) : 1);
   detail::parallelFor(count, parallel, [&](int k) {
     tangents[size_t(k)] = Eigen::VectorXd::Zero(gradients[size_t(k)].size());
     if (!closed && (k == 0 || k == count - 1)) return;
-    detail::SparseCholesky& cholesky = factorisations[parallel ? size_t(detail::threadIndex()) : 0];
+    numerics::SparseCholesky& cholesky = factorisations[parallel ? size_t(detail::threadIndex()) : 0];
     // eq. 9's metric d1d1 W(x, x) + d2d2 W(x, x) = 2 d2d2 W(x, x) (W(x, x) = 0 and its gradients vanish
     // there for every x, so d1d1 = -d1d2 = d2d2), and (2 H + 2 r I) v = -g / 2 is solved as
     // (H + r I) v = -g / 4. The ridge r removes the rigid null space.

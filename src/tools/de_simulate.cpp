@@ -173,9 +173,9 @@ elasticity::SolverSettings solverSettings(const Options& o) {
   settings.maxSeconds = o.maxSeconds;
   settings.exactHessianBelow = o.exactBelow;
   settings.reuseContraction = o.reuseContraction;
-  settings.linearSolver = o.solverName == "cholmod" ? elasticity::LinearSolverKind::Cholmod
-                          : o.solverName == "ldlt"  ? elasticity::LinearSolverKind::SimplicialLDLT
-                                                    : elasticity::LinearSolverKind::Auto;
+  settings.linearSolver = o.solverName == "cholmod" ? numerics::SparseCholeskyBackend::Cholmod
+                          : o.solverName == "ldlt"  ? numerics::SparseCholeskyBackend::EigenSimplicial
+                                                    : numerics::SparseCholeskyBackend::Default;
   return settings;
 }
 

@@ -61,7 +61,7 @@ std::map<std::pair<long, long>, std::vector<double>> wallTimes;  // (tets, solve
 
 void BM_NewtonIndent(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0)), m = static_cast<int>(state.range(1));
-  const auto kind = static_cast<elasticity::LinearSolverKind>(state.range(2));
+  const auto kind = static_cast<numerics::SparseCholeskyBackend>(state.range(2));
   const Case& c = slabCase(n, m);
   elasticity::SolverSettings settings;
   settings.linearSolver = kind;
@@ -89,8 +89,8 @@ void BM_NewtonIndent(benchmark::State& state) {
   state.counters["assembly_s"] = assembly;
 }
 
-constexpr long kCholmod = static_cast<long>(elasticity::LinearSolverKind::Cholmod);
-constexpr long kLdlt = static_cast<long>(elasticity::LinearSolverKind::SimplicialLDLT);
+constexpr long kCholmod = static_cast<long>(numerics::SparseCholeskyBackend::Cholmod);
+constexpr long kLdlt = static_cast<long>(numerics::SparseCholeskyBackend::EigenSimplicial);
 
 void registerCases() {
   const std::vector<std::pair<int, int>> sizes{{15, 3}, {32, 7}};  // 5400 and 49152 tets

@@ -11,11 +11,9 @@
 
 #include "deformation_enrichment/elasticity/anchor_springs.hpp"
 #include "deformation_enrichment/elasticity/tet_fem.hpp"
+#include "deformation_enrichment/numerics/sparse_cholesky.hpp"
 
 namespace deformation_enrichment::elasticity {
-
-/// Sparse Cholesky back end. Auto = CHOLMOD when built with it (DE_HAVE_CHOLMOD), else SimplicialLDLT.
-enum class LinearSolverKind { Auto, Cholmod, SimplicialLDLT };
 
 /// Vertices held at given positions (support: their rest positions; tool: prescribed positions).
 struct DirichletConstraints {
@@ -61,7 +59,7 @@ struct SolverSettings {
   /// factorisation (chord step, one triangular solve); a chord step that does not contract as much, or
   /// fails the line search, triggers a fresh factorisation. 0 = factorise every iteration.
   double reuseContraction = 0.25;
-  LinearSolverKind linearSolver = LinearSolverKind::Auto;
+  numerics::SparseCholeskyBackend linearSolver = numerics::SparseCholeskyBackend::Default;
   std::function<void(const IterationRecord&)> callback;  ///< optional, called after each iteration
 };
 
@@ -83,7 +81,7 @@ struct SolveResult {
 class QuasiStaticSolver {
 public:
   /// Keeps a reference to `fem`, which must outlive the solver. Throws InvalidInputError for
-  /// LinearSolverKind::Cholmod when the library was built without CHOLMOD.
+  /// SparseCholeskyBackend::Cholmod when the library was built without CHOLMOD.
   explicit QuasiStaticSolver(const TetFem& fem, SolverSettings settings = SolverSettings());
   ~QuasiStaticSolver();
   QuasiStaticSolver(const QuasiStaticSolver&) = delete;

@@ -221,9 +221,9 @@ TEST(QuasiStaticSolver, CholmodAndLdltAgree) {
   a.row(2) *= 0.5;
   Eigen::Matrix3Xd b = a;
   SolverSettings settings;
-  settings.linearSolver = LinearSolverKind::Cholmod;
+  settings.linearSolver = numerics::SparseCholeskyBackend::Cholmod;
   QuasiStaticSolver cholmod(block.fem, settings);
-  settings.linearSolver = LinearSolverKind::SimplicialLDLT;
+  settings.linearSolver = numerics::SparseCholeskyBackend::EigenSimplicial;
   QuasiStaticSolver ldlt(block.fem, settings);
   DirichletConstraints constraints = block.support;
   constraints.add(block.freeVertices.back(), a.col(block.freeVertices.back()));
