@@ -44,12 +44,9 @@ void checkOptions(const ContactEnricherOptions& o) {
     throw InvalidInputError("contact enricher: window scale h must be positive and finite");
   if (!(o.sampleSpacing >= 0.0) || !std::isfinite(o.sampleSpacing))
     throw InvalidInputError("contact enricher: sample spacing must be >= 0 and finite");
-  if (!(o.stampGain >= 0.0) || !std::isfinite(o.stampGain))
-    throw InvalidInputError("contact enricher: stamp gain must be >= 0 and finite");
   if (!(o.maxMagnitudeRatio > 0.0) || !(o.maxWeight > 0.0))
     throw InvalidInputError("contact enricher: the magnitude-ratio and weight bounds must be positive (infinity: unbounded)");
-  if (!(o.minConfidence >= 0.0 && o.minConfidence <= 1.0))
-    throw InvalidInputError("contact enricher: minimum confidence must be in [0, 1]");
+  o.gain.check();
 }
 
 }  // namespace
@@ -99,14 +96,14 @@ void ContactEnricher::setExamples(const examples::ExampleSet& set, const Example
   muNorms_ = std::move(muNorms);
 }
 
-void ContactEnricher::setStampGain(double gain) {
-  if (!(gain >= 0.0) || !std::isfinite(gain)) throw InvalidInputError("contact enricher: stamp gain must be >= 0 and finite");
-  options_.stampGain = gain;
+void DetailGain::check() const {
+  if (!(stampGain >= 0.0) || !std::isfinite(stampGain)) throw InvalidInputError("stamp gain must be >= 0 and finite");
+  if (!(minConfidence >= 0.0 && minConfidence <= 1.0)) throw InvalidInputError("minimum confidence must be in [0, 1]");
 }
 
-void ContactEnricher::setMinConfidence(double floor) {
-  if (!(floor >= 0.0 && floor <= 1.0)) throw InvalidInputError("contact enricher: minimum confidence must be in [0, 1]");
-  options_.minConfidence = floor;
+void ContactEnricher::setDetailGain(const DetailGain& gain) {
+  gain.check();
+  options_.gain = gain;
 }
 
 void ContactEnricher::setKernelWidths(double sigmaRho, double sigmaU) {
@@ -276,7 +273,7 @@ void ContactEnricher::blendContact(const Contact& contact, ContactOutcome& outco
       for (Eigen::Index i = 0; i < effective.size(); ++i)
         effective(i) = muNorms_(i) > 0.0 ? effective(i) * std::min(outcome.muNorm / muNorms_(i), options_.maxMagnitudeRatio) : 0.0;
   }
-  outcome.detailScale = smoothRamp(outcome.confidence, options_.minConfidence);
+  outcome.detailScale = smoothRamp(outcome.confidence, options_.gain.minConfidence);
   if (contact.releasedMagnitude > 0.0 && !followsMagnitude)
     outcome.detailScale *= std::min(1.0, outcome.muNorm / contact.releasedMagnitude);
   if (effective != outcome.weights) blendScratch_.stamp = blendStamps(stamps_, effective);
@@ -285,7 +282,7 @@ void ContactEnricher::blendContact(const Contact& contact, ContactOutcome& outco
   stamp.rotation = outcome.description.R;
   stamp.radius = blender_->stampRadius();
   stamp.layers = blender_->stampLayers();
-  const double scale = options_.stampGain * outcome.detailScale;
+  const double scale = options_.gain.stampGain * outcome.detailScale;
   if (scale == 1.0) blendScratch_.stamp.copyTo(stamp.stamp);
   else blendScratch_.stamp.convertTo(stamp.stamp, -1, scale);
 }

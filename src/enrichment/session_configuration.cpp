@@ -40,10 +40,9 @@ std::string flawNote(const mesh::SurfaceReport& r) {
 }
 
 void checkKnobs(const EnrichmentKnobs& k) {
-  if (!(k.stampGain >= 0.0) || !std::isfinite(k.stampGain)) throw InvalidInputError("stamp gain must be >= 0 and finite");
+  k.gain.check();
   if (!std::isfinite(k.sigmaRho) || !std::isfinite(k.sigmaU)) throw InvalidInputError("kernel widths must be finite");
   if (k.hermiteOrder < 0) throw InvalidInputError("Hermite order must be >= 0 (0: the set's)");
-  if (!(k.minConfidence >= 0.0 && k.minConfidence <= 1.0)) throw InvalidInputError("minimum confidence must be in [0, 1]");
   if (!(k.temporalSmoothing >= 0.0) || !std::isfinite(k.temporalSmoothing))
     throw InvalidInputError("temporal smoothing must be >= 0 and finite");
 }
@@ -84,8 +83,7 @@ std::unique_ptr<EnrichmentSession::Built> EnrichmentSession::build(const RestSur
   // The descriptors see geometry only: detail acquired on another material fades with its difference.
   if (options_.scene && set.metadata.provenance)
     result->materialSimilarity = materialSimilarity(set.metadata.provenance->scene, *options_.scene);
-  options.stampGain = knobs.stampGain * result->materialSimilarity;
-  options.minConfidence = knobs.minConfidence;
+  options.gain = {knobs.gain.stampGain * result->materialSimilarity, knobs.gain.minConfidence};
   const mesh::TetMesh* volume = rest.geometry.volume ? &*rest.geometry.volume : nullptr;
   result->enricher = std::make_unique<ContactEnricher>(
       surfaceEnricher(rest.geometry.surface, volume, options, options_.density, &result->siteDensity));
@@ -243,9 +241,9 @@ void EnrichmentSession::setKnobs(const EnrichmentKnobs& requested) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (enricher_ && enricher_->enricher) {  // the values were checked above, so none of these throws
     ContactEnricher& enricher = *enricher_->enricher;
-    enricher.setStampGain(requested.stampGain);
+    // The set's material similarity scales the gain as when the enricher was built.
+    enricher.setDetailGain({requested.gain.stampGain * enricher_->materialSimilarity, requested.gain.minConfidence});
     enricher.setKernelWidths(requested.sigmaRho, requested.sigmaU);  // O(N^3) in the examples: cheap
-    enricher.setMinConfidence(requested.minConfidence);
   }
   if (requested.temporalSmoothing != temporalFilter_.timeConstant()) temporalFilter_.setTimeConstant(requested.temporalSmoothing);
   knobs_ = requested;

@@ -176,13 +176,13 @@ void prepare(Evaluation& ev) {
   ev.source = ev.set.metadata.provenance ? ev.set.metadata.provenance->scene.name : ev.set.metadata.scene;
   // The evaluation scene's surface, described as the set's examples were.
   ev.options = s.defaults;
-  ev.options.stampGain = s.gain;
+  ev.options.gain.stampGain = s.gain;
   ev.options.rimBand = s.rimBand;
   ev.options.magnitudeAware = !s.correlationOnly;
   ev.options = enrichment::optionsFor(ev.set, ev.options);
   // Detail of another tissue fades with its material's difference (the descriptors see geometry only).
   if (ev.set.metadata.provenance) ev.similarity = enrichment::materialSimilarity(ev.set.metadata.provenance->scene, ev.scene);
-  ev.options.stampGain *= ev.similarity;
+  ev.options.gain.stampGain *= ev.similarity;
   ev.density.source = descriptors::parseSiteDensitySource(s.densitySource);
   ev.density.shellThickness = s.shellThickness;
   ev.density.maxOutside = ev.scene.maxOutside;

@@ -20,6 +20,17 @@
 
 namespace deformation_enrichment::enrichment {
 
+/// How much of the blended detail is applied: the run-time knobs stamp_gain and min_confidence.
+struct DetailGain {
+  double stampGain = 1.0;  ///< scales every blended stamp; >= 0
+  /// Detail fades in with the blend's confidence (paper: max eq. 15 weight; regression: the variance the
+  /// examples explain): 0 below minConfidence, full from 2 minConfidence on, smoothstep between (a ramp,
+  /// not a step). 0 = never gated; in [0, 1].
+  double minConfidence = 0.0;
+  /// Throws InvalidInputError naming the value out of range.
+  void check() const;
+};
+
 struct ContactEnricherOptions {
   descriptors::DescriptorOptions descriptors;  ///< window scale h, orders N, frame tolerance, MLS
   double stampRadius = 0.02;    ///< R of the stamps this surface expects (m); examples must match
@@ -27,7 +38,6 @@ struct ContactEnricherOptions {
   /// StampMapper rim band. Measured on held-out slab contacts (R = 3 cm): enriched / coarse RMS 0.34 with
   /// no band (but a seam at the rim), 0.38 with 0.1, 0.42 with 0.2: the band fades real detail.
   double rimBand = 0.1;
-  double stampGain = 1.0;       ///< scales every blended stamp (run-time knob)
   /// Magnitude-aware stamps (docs/design.md §4): eq. (16) becomes Psi = sum_i w~_i (|mu| / |mu[i]|) Psi[i], so an
   /// example's detail scales with how strongly the current contact deforms compared with the example
   /// (eq. 14 compares directions only). false = the paper's pure correlation. Measured on held-out slab
@@ -40,10 +50,7 @@ struct ContactEnricherOptions {
   /// times the largest |mu[i]|. All bounds are continuous, so a stream stays continuous.
   double maxMagnitudeRatio = 2.0;
   double maxWeight = 2.0;
-  /// Detail fades in with the blend's confidence (paper: max eq. 15 weight; regression: the variance the
-  /// examples explain): 0 below minConfidence, full from 2 minConfidence on, smoothstep between (a ramp,
-  /// not a step). 0 = never gated.
-  double minConfidence = 0.0;
+  DetailGain gain;  ///< the run-time knobs (times the set's material similarity in a session)
 };
 
 /// One tool contact. `point` is a rest-state position when `restState`, otherwise a current-state position,
@@ -114,9 +121,8 @@ public:
   void setExamples(const examples::ExampleSet& set, const ExampleBlenderOptions& blenderOptions = {});
   bool hasExamples() const { return blender_ != nullptr; }
   const ExampleBlender* blender() const { return blender_.get(); }
-  void setStampGain(double gain);
-  /// options().minConfidence at run time; throws InvalidInputError outside [0, 1].
-  void setMinConfidence(double floor);
+  /// options().gain at run time; throws InvalidInputError (DetailGain::check) and keeps the old one.
+  void setDetailGain(const DetailGain& gain);
   /// Kernel widths of eq. (15) for the active set (run-time knob): a positive width replaces the current
   /// one, 0 or a negative one restores the width the set was loaded with (leave-one-out fitted, or given).
   /// Rebuilds the RBF interpolator, O(N^3) in the examples. Throws InvalidInputError without examples or

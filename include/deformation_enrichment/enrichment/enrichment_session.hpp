@@ -35,10 +35,9 @@ namespace deformation_enrichment::enrichment {
 /// The run-time knobs (the node's dynamic_reconfigure parameters).
 struct EnrichmentKnobs {
   BlendMethod blend = BlendMethod::Regression;  ///< how examples are blended (example_blender.hpp)
-  double stampGain = 1.0;
+  DetailGain gain;
   double sigmaRho = 0.0, sigmaU = 0.0;  ///< <= 0: the set's leave-one-out fitted width
   int hermiteOrder = 0;                 ///< 0: the order the set was built with
-  double minConfidence = 0.0;           ///< ContactEnricherOptions::minConfidence (0 = no gate)
   double temporalSmoothing = 0.0;       ///< TemporalFilter time constant [s] (0 = off)
 };
 

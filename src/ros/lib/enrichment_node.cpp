@@ -291,7 +291,7 @@ void EnrichmentNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& statu
   status.add("blend requested", enrichment::toString(knobs.blend));
   status.add("blend", session.blend);
   status.add("material similarity (stamp scale)", session.materialSimilarity);
-  status.add("stamp gain", knobs.stampGain);
+  status.add("stamp gain", knobs.gain.stampGain);
   status.add("rim band", parameters_.session.defaults.rimBand);
   status.add("magnitude aware", parameters_.session.defaults.magnitudeAware ? "true" : "false");
   status.add("rbf lambda", parameters_.session.blending.lambda);

@@ -64,11 +64,11 @@ bool EnrichmentNode::onLoadExampleSet(LoadExampleSet::Request& request, LoadExam
 void EnrichmentNode::onReconfigure(EnrichmentConfig& config, uint32_t /*level*/) {
   const enrichment::EnrichmentKnobs kept = session_->knobs();
   enrichment::EnrichmentKnobs requested = kept;
-  requested.stampGain = config.stamp_gain;
+  requested.gain.stampGain = config.stamp_gain;
   requested.sigmaRho = config.sigma_rho;
   requested.sigmaU = config.sigma_u;
   requested.hermiteOrder = config.hermite_order;
-  requested.minConfidence = config.min_confidence;
+  requested.gain.minConfidence = config.min_confidence;
   requested.temporalSmoothing = config.temporal_smoothing;
   try {
     requested.blend = enrichment::parseBlendMethod(config.blend);
@@ -81,7 +81,7 @@ void EnrichmentNode::onReconfigure(EnrichmentConfig& config, uint32_t /*level*/)
   } catch (const Error& e) {
     if (requested.hermiteOrder == kept.hermiteOrder) {
       ROS_ERROR("reconfiguration refused: %s (keeping stamp_gain %g, sigma_rho %g, sigma_u %g, min_confidence %g, "
-                "temporal_smoothing %g)", e.what(), kept.stampGain, kept.sigmaRho, kept.sigmaU, kept.minConfidence,
+                "temporal_smoothing %g)", e.what(), kept.gain.stampGain, kept.sigmaRho, kept.sigmaU, kept.gain.minConfidence,
                 kept.temporalSmoothing);
       requested = kept;
     } else {  // the order alone is refused (above the active set's): the other knobs still apply
@@ -95,11 +95,11 @@ void EnrichmentNode::onReconfigure(EnrichmentConfig& config, uint32_t /*level*/)
       }
     }
   }
-  config.stamp_gain = requested.stampGain;
+  config.stamp_gain = requested.gain.stampGain;
   config.sigma_rho = requested.sigmaRho;
   config.sigma_u = requested.sigmaU;
   config.hermite_order = requested.hermiteOrder;
-  config.min_confidence = requested.minConfidence;
+  config.min_confidence = requested.gain.minConfidence;
   config.temporal_smoothing = requested.temporalSmoothing;
   config.blend = enrichment::toString(requested.blend);
 }

@@ -62,7 +62,7 @@ void readKnobs(const ros::NodeHandle& nh, enrichment::EnrichmentKnobs& k) {
   } catch (const Error& e) {
     ROS_ERROR("~blend: %s; using %s", e.what(), enrichment::toString(k.blend));
   }
-  k.stampGain = checked(nh, "stamp_gain", k.stampGain, nonNegative, ">= 0");
+  k.gain.stampGain = checked(nh, "stamp_gain", k.gain.stampGain, nonNegative, ">= 0");
   k.sigmaRho = checked(nh, "sigma_rho", k.sigmaRho, [](double v) { return std::isfinite(v); }, "finite");
   k.sigmaU = checked(nh, "sigma_u", k.sigmaU, [](double v) { return std::isfinite(v); }, "finite");
   k.hermiteOrder = nh.param("hermite_order", k.hermiteOrder);
@@ -70,7 +70,7 @@ void readKnobs(const ros::NodeHandle& nh, enrichment::EnrichmentKnobs& k) {
     ROS_ERROR("~hermite_order must be >= 0 (0: the set's), got %d: using 0", k.hermiteOrder);
     k.hermiteOrder = 0;
   }
-  k.minConfidence = checked(nh, "min_confidence", k.minConfidence, [](double v) { return v >= 0.0 && v <= 1.0; }, "in [0, 1]");
+  k.gain.minConfidence = checked(nh, "min_confidence", k.gain.minConfidence, [](double v) { return v >= 0.0 && v <= 1.0; }, "in [0, 1]");
   k.temporalSmoothing = checked(nh, "temporal_smoothing", k.temporalSmoothing, nonNegative, ">= 0");
 }
 

@@ -153,7 +153,7 @@ TEST(ContactEnricher, BadInputThrowsTypedErrors) {
   const auto d = enricher.describe(dented(rest, contact.point, 1.0), contact);
   EXPECT_THROW(enricher.setExamples(oneExampleSet(d, syntheticStamp(8, 0.03), 0.03), fixedWidths()), InvalidInputError);
   EXPECT_FALSE(enricher.hasExamples());
-  EXPECT_THROW(enricher.setStampGain(-1.0), InvalidInputError);
+  EXPECT_THROW(enricher.setDetailGain({-1.0, 0.0}), InvalidInputError);
   // Open surface: no interior sampling possible.
   mesh::TriangleMesh open = slabSurface();
   open.triangles.conservativeResize(3, open.triangles.cols() - 1);

@@ -290,7 +290,7 @@ TEST(EnrichmentSession, KnobsApplyFromTheNextStateAndBadOnesChangeNothing) {
   session->enrich(state, tools, 1.0);
   const Eigen::Matrix3Xf full = session->enrichedPositions() - state;
   enrichment::EnrichmentKnobs half;
-  half.stampGain = 0.5;
+  half.gain.stampGain = 0.5;
   session->setKnobs(half);
   ASSERT_EQ(session->enrich(state, tools, 1.1).kind, FrameResult::Kind::Enriched) << "a knob invalidates the memo";
   const Eigen::Matrix3Xf halved = session->enrichedPositions() - state;
@@ -302,9 +302,9 @@ TEST(EnrichmentSession, KnobsApplyFromTheNextStateAndBadOnesChangeNothing) {
   bad.sigmaRho = std::numeric_limits<double>::infinity();
   EXPECT_THROW(session->setKnobs(bad), InvalidInputError);
   bad = half;
-  bad.minConfidence = 1.5;
+  bad.gain.minConfidence = 1.5;
   EXPECT_THROW(session->setKnobs(bad), InvalidInputError);
-  EXPECT_EQ(session->knobs().stampGain, 0.5);
+  EXPECT_EQ(session->knobs().gain.stampGain, 0.5);
   EXPECT_EQ(session->knobs().hermiteOrder, 0);
   enrichment::EnrichmentKnobs lower = half;
   lower.hermiteOrder = 1;
@@ -328,7 +328,15 @@ TEST(EnrichmentSession, ASetOfAnotherMaterialIsScaledByTheMaterialSimilarity) {
     similarity = session.diagnostics().materialSimilarity;
     const Eigen::Matrix3Xf state = dentedState(rest);
     EXPECT_EQ(session.enrich(state, toolAt(state, rest), 1.0).kind, FrameResult::Kind::Enriched);
-    return Eigen::Matrix3Xf(session.enrichedPositions() - state);
+    const Eigen::Matrix3Xf added = session.enrichedPositions() - state;
+    // A knob change keeps the enricher and the similarity: half the gain, half the detail.
+    enrichment::EnrichmentKnobs half;
+    half.gain.stampGain = 0.5;
+    session.setKnobs(half);
+    EXPECT_EQ(session.enrich(state, toolAt(state, rest), 1.1).kind, FrameResult::Kind::Enriched);
+    const Eigen::Matrix3Xf halved = session.enrichedPositions() - state;
+    EXPECT_NEAR(halved.norm(), 0.5 * added.norm(), 1e-3 * added.norm()) << "similarity " << similarity;
+    return added;
   };
   double same = 0.0, softer = 0.0, unknown = 0.0;
   scene_file::SceneDescription tissue = set.metadata.provenance->scene;

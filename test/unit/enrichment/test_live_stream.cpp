@@ -154,7 +154,7 @@ TEST(LiveStream, MagnitudeRatioAndWeightsAreBounded) {
   bad.maxWeight = 0.0;
   EXPECT_THROW(ContactEnricher(slabSurface(), bad), InvalidInputError);
   bad = options();
-  bad.minConfidence = 1.5;
+  bad.gain.minConfidence = 1.5;
   EXPECT_THROW(ContactEnricher(slabSurface(), bad), InvalidInputError);
 }
 
@@ -170,14 +170,14 @@ TEST(LiveStream, ConfidenceGateIsARamp) {
   const double confidence = full.contacts[0].confidence;
   ASSERT_GT(confidence, 0.05);
   for (double floor : {0.4 * confidence, 0.6 * confidence, 0.9 * confidence}) {
-    enricher.setMinConfidence(floor);
+    enricher.setDetailGain({1.0, floor});
     enricher.enrich(state, {c}, gated);
     const double expected = smoothRamp(confidence, floor);
     EXPECT_NEAR(gated.contacts[0].detailScale, expected, 1e-12);
     EXPECT_LT((gated.enrichment.displacements - expected * full.enrichment.displacements).norm(),
               1e-6 * full.enrichment.displacements.norm() + 1e-15);
   }
-  EXPECT_THROW(enricher.setMinConfidence(-0.1), InvalidInputError);
+  EXPECT_THROW(enricher.setDetailGain({1.0, -0.1}), InvalidInputError);
 }
 
 TEST(LiveStream, SmoothRampIsContinuousFromZeroToOne) {
