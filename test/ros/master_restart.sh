@@ -8,25 +8,7 @@ log_dir="${ROS_HOME:-/tmp}/master_restart"
 mkdir -p "$log_dir"
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
-port=$(/usr/bin/python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
-export ROS_MASTER_URI="http://127.0.0.1:$port"
-pids=()
-cleanup() {
-  local pid
-  for pid in "${pids[@]}"; do kill -INT "$pid" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-}
-trap cleanup EXIT
-
-wait_for() {  # wait_for SECONDS COMMAND...: retries COMMAND until it succeeds or SECONDS have passed
-  local deadline=$((SECONDS + $1))
-  shift
-  until "$@" >/dev/null 2>&1; do
-    [ "$SECONDS" -lt "$deadline" ] || return 1
-    sleep 0.3
-  done
-}
-stop() { kill -INT "$1" 2>/dev/null || true; wait "$1" 2>/dev/null || true; }
+source "$(dirname "$0")/master_helpers.sh"
 start_master() {  # start_master NAME: a roscore on $port; its pid in $master
   roscore -p "$port" >"$log_dir/roscore_$1.log" 2>&1 &
   master=$!

@@ -20,28 +20,10 @@ for exe in "$@"; do
 done
 echo "rosrun resolves all $# executables in $devel_bin"
 
-port=$(/usr/bin/python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
-export ROS_MASTER_URI="http://127.0.0.1:$port"
-pids=()
-cleanup() {
-  local pid
-  for pid in "${pids[@]}"; do kill -INT "$pid" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-}
-trap cleanup EXIT
+source "$(dirname "$0")/master_helpers.sh"
 roscore -p "$port" >"$log_dir/roscore.log" 2>&1 &
 pids+=($!)
-
-wait_for() {  # wait_for SECONDS COMMAND...: retries COMMAND until it succeeds or SECONDS have passed
-  local deadline=$((SECONDS + $1))
-  shift
-  until "$@" >/dev/null 2>&1; do
-    [ "$SECONDS" -lt "$deadline" ] || return 1
-    sleep 0.3
-  done
-}
 has_service() { rosservice list 2>/dev/null | grep -qx "$1"; }
-stop() { kill -INT "$1" 2>/dev/null || true; wait "$1" 2>/dev/null || true; }
 
 wait_for 30 rosnode list || fail "roscore did not answer on port $port (see $log_dir/roscore.log)"
 
