@@ -39,6 +39,12 @@ void MasterWatch::check() {
     if (ros::param::get(parameterNamespace_, current)) parameters_ = current;
     return;
   }
+  // Only the master's own answer "unknown node" (status -1) means it restarted; a call that failed on the
+  // way is checked again next time.
+  const bool unknownNode = response.valid() && response.getType() == XmlRpc::XmlRpcValue::TypeArray &&
+                           response.size() > 0 && response[0].getType() == XmlRpc::XmlRpcValue::TypeInt &&
+                           static_cast<int>(response[0]) == -1;
+  if (!unknownNode) return;
   if (parameters_.valid()) ros::param::set(parameterNamespace_, parameters_);
   ROS_FATAL("the ROS master at %s does not know node %s: it restarted, and roscpp does not register a node's "
             "topics and services again. Shutting down, with the parameters of %s written back to the new master, "
