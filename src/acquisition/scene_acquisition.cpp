@@ -81,7 +81,7 @@ double solvePath(const Body& body, const ToolPath& path, const SceneDescription&
   const double dragDistance = path.drag.norm();
   if (dragDistance == 0.0) dragSteps = 0;
   const Eigen::Vector3d dragDirection = dragDistance > 0.0 ? Eigen::Vector3d(path.drag / dragDistance) : Eigen::Vector3d::UnitX();
-  elasticity::SolverSettings settings;
+  elasticity::SolverOptions settings;
   settings.relativeForceTolerance = d.solve.relativeTolerance;
   elasticity::QuasiStaticSolver solver(*body.fem, settings);
   positions = scene.mesh.vertices;

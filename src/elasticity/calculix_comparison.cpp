@@ -32,7 +32,7 @@ TetFem makeSnhBody(const CalculixModel& model, SnhVariant variant) {
 // keep Newton in its basin.
 Eigen::Matrix3Xd solveOurs(const TetFem& fem, const CalculixModel& model, const CalculixComparisonOptions& options,
                            CalculixComparison& out) {
-  SolverSettings settings;
+  SolverOptions settings;
   settings.relativeForceTolerance = options.relativeForceTolerance;
   settings.maxIterations = 200;
   QuasiStaticSolver solver(fem, settings);

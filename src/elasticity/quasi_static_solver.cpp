@@ -61,7 +61,7 @@ struct QuasiStaticSolver::Linear {
   Eigen::VectorXd solve(const Eigen::VectorXd& rhs) const { return cholesky.solve(rhs); }
 };
 
-QuasiStaticSolver::QuasiStaticSolver(const TetFem& fem, SolverSettings settings)
+QuasiStaticSolver::QuasiStaticSolver(const TetFem& fem, SolverOptions settings)
     : fem_(fem), settings_(std::move(settings)), linear_(std::make_unique<Linear>(settings_.linearSolver)) {
   if (settings_.maxIterations < 0 || !(settings_.relativeForceTolerance >= 0.0) || settings_.maxLineSearchSteps < 1 ||
       !(settings_.armijo > 0.0 && settings_.armijo < 1.0) || !(settings_.maxSeconds > 0.0) ||
@@ -97,12 +97,12 @@ void checkSolveInput(Eigen::Index V, const Eigen::Matrix3Xd& positions, const Di
 /// One call of solve(): the objective (elastic energy plus springs) on the free dofs, and the state of the
 /// Newton loop between iterations.
 struct QuasiStaticSolver::Run {
-  Run(const TetFem& f, const SolverSettings& s, Linear& l, const AnchorSprings& sp, const Eigen::VectorXi& m, Eigen::Matrix3Xd& x,
+  Run(const TetFem& f, const SolverOptions& s, Linear& l, const AnchorSprings& sp, const Eigen::VectorXi& m, Eigen::Matrix3Xd& x,
       SolveResult& r, Clock::time_point t)
       : fem(f), settings(s), linear(l), springs(sp), map(m), positions(x), result(r), start(t) {}
 
   const TetFem& fem;
-  const SolverSettings& settings;
+  const SolverOptions& settings;
   Linear& linear;
   const AnchorSprings& springs;
   const Eigen::VectorXi& map;

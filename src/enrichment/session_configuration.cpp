@@ -39,7 +39,7 @@ std::string flawNote(const mesh::SurfaceReport& r) {
   return note;
 }
 
-void checkKnobs(const EnrichmentKnobs& k) {
+void checkKnobs(const KnobOptions& k) {
   k.gain.check();
   if (!std::isfinite(k.sigmaRho) || !std::isfinite(k.sigmaU)) throw InvalidInputError("kernel widths must be finite");
   if (k.hermiteOrder < 0) throw InvalidInputError("Hermite order must be >= 0 (0: the set's)");
@@ -71,7 +71,7 @@ void EnrichmentSession::log(SessionLogLevel level, const std::string& text) cons
 }
 
 std::unique_ptr<EnrichmentSession::Built> EnrichmentSession::build(const RestSurface& rest, const examples::ExampleSet& set,
-                                                                   const EnrichmentKnobs& knobs) const {
+                                                                   const KnobOptions& knobs) const {
   // Contacts are described exactly as the set's examples were (window, quadrature, interior sampling,
   // orders, stamp radius); the defaults only fill in what a set does not record. A lower mu order may be
   // chosen by knob; the leave-one-out widths are then fitted for the descriptors actually compared.
@@ -122,7 +122,7 @@ void EnrichmentSession::rebuildLoop() {
     if (stopping_) return;
     const std::shared_ptr<const RestSurface> rest = pending_;
     const std::shared_ptr<const examples::ExampleSet> set = set_;
-    const EnrichmentKnobs knobs = knobs_;
+    const KnobOptions knobs = knobs_;
     const std::uint64_t config = configVersion_;
     building_ = true;
     lock.unlock();
@@ -180,7 +180,7 @@ void EnrichmentSession::resetStream() {
   memoValid_ = false;
 }
 
-void EnrichmentSession::installConfiguration(std::shared_ptr<const examples::ExampleSet> set, const EnrichmentKnobs& knobs) {
+void EnrichmentSession::installConfiguration(std::shared_ptr<const examples::ExampleSet> set, const KnobOptions& knobs) {
   for (;;) {
     std::shared_ptr<const RestSurface> rest;
     {
@@ -211,7 +211,7 @@ void EnrichmentSession::installConfiguration(std::shared_ptr<const examples::Exa
 void EnrichmentSession::setExampleSet(examples::ExampleSet set) {
   if (set.examples.empty()) throw InvalidInputError("example set has no examples");
   const int built = deformationOrder(set);  // throws for examples of different layouts
-  const EnrichmentKnobs requested = knobs();
+  const KnobOptions requested = knobs();
   if (requested.hermiteOrder > built)
     log(SessionLogLevel::Warning, "the example set stores deformation moments up to order " + std::to_string(built) +
                                       ": hermite_order " + std::to_string(requested.hermiteOrder) + " runs at " +
@@ -219,7 +219,7 @@ void EnrichmentSession::setExampleSet(examples::ExampleSet set) {
   installConfiguration(std::make_shared<const examples::ExampleSet>(std::move(set)), requested);
 }
 
-void EnrichmentSession::setKnobs(const EnrichmentKnobs& requested) {
+void EnrichmentSession::setKnobs(const KnobOptions& requested) {
   checkKnobs(requested);
   std::shared_ptr<const examples::ExampleSet> set;
   int activeOrder = 0;
@@ -251,7 +251,7 @@ void EnrichmentSession::setKnobs(const EnrichmentKnobs& requested) {
   changed_.notify_all();
 }
 
-EnrichmentKnobs EnrichmentSession::knobs() const {
+KnobOptions EnrichmentSession::knobs() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return knobs_;
 }

@@ -24,7 +24,7 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-struct DriverSettings {
+struct DriverOptions {
   std::string bag, frame, simulator;
   double settleTolerance = 1e-6, settleTimeout = 10.0;
   int settleStates = 3;
@@ -38,7 +38,7 @@ struct Stop : std::runtime_error {
 
 class Driver {
 public:
-  Driver(ros::NodeHandle& nh, DriverSettings settings, const de::acquisition::SceneAcquisition& scene)
+  Driver(ros::NodeHandle& nh, DriverOptions settings, const de::acquisition::SceneAcquisition& scene)
       : settings_(std::move(settings)), scene_(scene), vertices_(scene.fineSurface().numVertices()) {
     commands_ = nh.advertise<geometry_msgs::PoseStamped>("servo_cp", 10);
     states_ = nh.subscribe("mesh_state", 10, &Driver::onState, this);
@@ -191,7 +191,7 @@ private:
     return {};
   }
 
-  DriverSettings settings_;
+  DriverOptions settings_;
   const de::acquisition::SceneAcquisition& scene_;
   const long vertices_;
   ros::Publisher commands_;
@@ -209,8 +209,8 @@ private:
 };
 
 // ~settle_*, ~on_timeout, ~bag, ~frame_id, ~simulator_name; throws Stop naming a bad value.
-DriverSettings readSettings(ros::NodeHandle& pnh) {
-  DriverSettings s;
+DriverOptions readSettings(ros::NodeHandle& pnh) {
+  DriverOptions s;
   s.bag = pnh.param<std::string>("bag", "");
   s.frame = pnh.param<std::string>("frame_id", "");
   s.simulator = pnh.param<std::string>("simulator_name", "");
@@ -235,7 +235,7 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "acquisition_driver");
   ros::NodeHandle nh, pnh("~");
   try {
-    const DriverSettings settings = readSettings(pnh);
+    const DriverOptions settings = readSettings(pnh);
     de::scene_file::SceneDescription scene = de::scene_file::readSceneFile(de::scene_file::findSceneFile(pnh.param<std::string>("scene", "slab")));
     const std::string planPath = pnh.param<std::string>("plan", "");
     const int examples = pnh.param("examples", 0), heldOut = pnh.param("held_out", 0), seed = pnh.param("seed", 1);

@@ -27,7 +27,7 @@ namespace {
 // steps that make about a millisecond of simulated time per state.
 constexpr double kSimulatedSecondsPerState = 1e-3;
 
-struct NodeSettings {
+struct NodeOptions {
   std::string scene, frame;
   double rate = 60.0;
   std::optional<int> stepsPerState;
@@ -36,8 +36,8 @@ struct NodeSettings {
 };
 
 // ~ parameters, each positive and finite; throws std::runtime_error naming a bad one.
-NodeSettings readSettings(ros::NodeHandle& pnh) {
-  NodeSettings s;
+NodeOptions readSettings(ros::NodeHandle& pnh) {
+  NodeOptions s;
   s.scene = pnh.param<std::string>("scene", "slab");
   s.frame = pnh.param<std::string>("frame_id", "slab");
   s.rate = pnh.param("rate", s.rate);
@@ -56,7 +56,7 @@ NodeSettings readSettings(ros::NodeHandle& pnh) {
 
 class BulletCoarseSim {
 public:
-  BulletCoarseSim(ros::NodeHandle& nh, const NodeSettings& settings) : settings_(settings) {
+  BulletCoarseSim(ros::NodeHandle& nh, const NodeOptions& settings) : settings_(settings) {
     const de::scene_file::SceneDescription scene = de::scene_file::readSceneFile(de::scene_file::findSceneFile(settings.scene));
     models_ = de::scenes::buildSceneModels(scene);
     de::bullet_engine::BulletTissueOptions options = settings.tissue;
@@ -117,7 +117,7 @@ private:
     return true;
   }
 
-  NodeSettings settings_;
+  NodeOptions settings_;
   de::scenes::SceneModels models_;
   std::unique_ptr<de::bullet_engine::BulletTissue> tissue_;
   de::mesh::BarycentricEmbedding embedding_;
@@ -135,7 +135,7 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "bullet_coarse_sim");
   ros::NodeHandle nh, pnh("~");
   std::unique_ptr<BulletCoarseSim> sim;
-  NodeSettings settings;
+  NodeOptions settings;
   try {
     settings = readSettings(pnh);
     sim = std::make_unique<BulletCoarseSim>(nh, settings);

@@ -118,7 +118,7 @@ int main(int argc, char** argv) {
     ss::validateSequence(sequence, 3);
     // GOAST's shell energy, bending scaled to the mesh size (as de_smooth)
     const ss::DiscreteShells energy(sequence.triangles, sequence.numVertices(),
-                                    ss::DiscreteShellsParameters::hyperelasticFor(sequence.shapes.front()));
+                                    ss::DiscreteShellsOptions::hyperelasticFor(sequence.shapes.front()));
     ss::FlowOptions options;
     options.tau = tau;
     options.rho = restoring;

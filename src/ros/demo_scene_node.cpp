@@ -86,14 +86,14 @@ geometry_msgs::TransformStamped frameTransform(const std::string& parent, const 
   return transform;
 }
 
-struct DemoSettings {
+struct DemoOptions {
   std::string frame, parentFrame, setPath, sceneName, contactsFile, coarse;
   double rate = 30.0, period = 3.0;
   int indentSteps = 6, dragSteps = 6, seed = 7;
 };
 
-DemoSettings readSettings(ros::NodeHandle& pnh) {
-  DemoSettings s;
+DemoOptions readSettings(ros::NodeHandle& pnh) {
+  DemoOptions s;
   s.frame = pnh.param<std::string>("frame_id", "slab");
   s.parentFrame = pnh.param<std::string>("parent_frame", "world");
   s.rate = pnh.param("rate", s.rate);
@@ -115,7 +115,7 @@ DemoSettings readSettings(ros::NodeHandle& pnh) {
 
 // The scene, as the example set recorded it for a procedural scene (resolutions, materials, tool), so the
 // states match its examples; scenes with mesh files are taken from their file.
-std::unique_ptr<de::acquisition::SceneAcquisition> loadScene(const DemoSettings& s) {
+std::unique_ptr<de::acquisition::SceneAcquisition> loadScene(const DemoOptions& s) {
   de::scene_file::SceneDescription description = de::scene_file::readSceneFile(de::scene_file::findSceneFile(s.sceneName));
   if (!s.setPath.empty()) {
     const auto provenance = de::examples::loadExampleSet(s.setPath).metadata.provenance;
@@ -127,7 +127,7 @@ std::unique_ptr<de::acquisition::SceneAcquisition> loadScene(const DemoSettings&
 
 // Plays the coarse SNH paths of the taps: the rest mesh, the states and the tool's contacts.
 void playSolvedTaps(ros::NodeHandle& nh, const de::acquisition::SceneAcquisition& scene, const std::vector<Tap>& taps,
-                    const DemoSettings& settings, std_msgs::Header header) {
+                    const DemoOptions& settings, std_msgs::Header header) {
   ros::Publisher restPub = nh.advertise<pcl_msgs::PolygonMesh>("rest_mesh", 1, /*latch=*/true);
   ros::Publisher statePub = nh.advertise<sensor_msgs::PointCloud2>("mesh_state", 2);
   ros::Publisher contactsPub = nh.advertise<de::ToolContactArray>("contacts", 2);
@@ -162,7 +162,7 @@ void playSolvedTaps(ros::NodeHandle& nh, const de::acquisition::SceneAcquisition
 // servo_cp along each tap's path, lifted clear between taps, and the contact at the sphere's tip where
 // measured_cp says the tool is (the simulator may still be moving it towards the command).
 void scriptSimulatorTool(ros::NodeHandle& nh, const de::acquisition::SceneAcquisition& scene,
-                         const std::vector<de::acquisition::PlanEntry>& entries, const DemoSettings& settings,
+                         const std::vector<de::acquisition::PlanEntry>& entries, const DemoOptions& settings,
                          std_msgs::Header header) {
   const double radius = scene.scene().tool.radius;
   std::vector<std::vector<Eigen::Vector3d>> centres;
@@ -208,7 +208,7 @@ void scriptSimulatorTool(ros::NodeHandle& nh, const de::acquisition::SceneAcquis
 int main(int argc, char** argv) {
   ros::init(argc, argv, "demo_scene");
   ros::NodeHandle nh, pnh("~");
-  DemoSettings settings;
+  DemoOptions settings;
   std::vector<Tap> taps;
   std::vector<de::acquisition::PlanEntry> entries;
   std::unique_ptr<de::acquisition::SceneAcquisition> scene;

@@ -70,11 +70,11 @@ private:
   }
 
   // The shell energy of a request: ~bending_weight when positive, else scaled to the mesh's size from its
-  // first shape as de_smooth and de_smooth_bag do (DiscreteShellsParameters::hyperelasticFor).
-  ss::DiscreteShellsParameters parametersFor(const Eigen::VectorXd& firstShape) const {
-    if (classic_) return ss::DiscreteShellsParameters::classic();
-    return bendingWeight_ > 0.0 ? ss::DiscreteShellsParameters::hyperelastic(bendingWeight_)
-                                : ss::DiscreteShellsParameters::hyperelasticFor(firstShape);
+  // first shape as de_smooth and de_smooth_bag do (DiscreteShellsOptions::hyperelasticFor).
+  ss::DiscreteShellsOptions parametersFor(const Eigen::VectorXd& firstShape) const {
+    if (classic_) return ss::DiscreteShellsOptions::classic();
+    return bendingWeight_ > 0.0 ? ss::DiscreteShellsOptions::hyperelastic(bendingWeight_)
+                                : ss::DiscreteShellsOptions::hyperelasticFor(firstShape);
   }
 
   template <class Response, class Work>

@@ -178,8 +178,8 @@ void addHingeTerm(const std::array<Eigen::Vector3d, 4>& x, const std::array<Eige
 
 }  // namespace
 
-DiscreteShellsParameters DiscreteShellsParameters::classic() {
-  DiscreteShellsParameters p;
+DiscreteShellsOptions DiscreteShellsOptions::classic() {
+  DiscreteShellsOptions p;
   p.membrane = MembraneModel::DiscreteShells;
   p.lengthWeight = 0.5;
   p.areaWeight = 0.5;
@@ -187,8 +187,8 @@ DiscreteShellsParameters DiscreteShellsParameters::classic() {
   return p;
 }
 
-DiscreteShellsParameters DiscreteShellsParameters::hyperelastic(double delta) {
-  DiscreteShellsParameters p;
+DiscreteShellsOptions DiscreteShellsOptions::hyperelastic(double delta) {
+  DiscreteShellsOptions p;
   p.membrane = MembraneModel::Hyperelastic;
   p.mu = 1.0;
   p.lambda = 1.0;
@@ -196,7 +196,7 @@ DiscreteShellsParameters DiscreteShellsParameters::hyperelastic(double delta) {
   return p;
 }
 
-DiscreteShellsParameters DiscreteShellsParameters::hyperelasticFor(const Eigen::VectorXd& shape) {
+DiscreteShellsOptions DiscreteShellsOptions::hyperelasticFor(const Eigen::VectorXd& shape) {
   const Eigen::Map<const Eigen::Matrix3Xd> v(shape.data(), 3, shape.size() / 3);
   const double diagonal = v.cols() > 0 ? (v.rowwise().maxCoeff() - v.rowwise().minCoeff()).norm() : 0.0;
   if (!(std::isfinite(diagonal) && diagonal > 0.0))
@@ -207,7 +207,7 @@ DiscreteShellsParameters DiscreteShellsParameters::hyperelasticFor(const Eigen::
 }
 
 DiscreteShells::DiscreteShells(const Eigen::Matrix3Xi& triangles, Eigen::Index numVertices,
-                               const DiscreteShellsParameters& parameters)
+                               const DiscreteShellsOptions& parameters)
     : triangles_(triangles), numVertices_(numVertices), parameters_(parameters) {
   if (triangles.cols() == 0 || numVertices <= 0) {
     throw InvalidInputError("DiscreteShells: the mesh is empty (" + std::to_string(triangles.cols()) +
@@ -361,7 +361,7 @@ void DiscreteShells::assemble(const Eigen::VectorXd& reference, const Eigen::Vec
   const Eigen::Index dofs = 3 * numVertices_;
   const bool hyperelastic = parameters_.membrane == MembraneModel::Hyperelastic;
   const double hingeFactor = hyperelastic ? 1.0 : 3.0;
-  const DiscreteShellsParameters& p = parameters_;
+  const DiscreteShellsOptions& p = parameters_;
   static constexpr std::array<LocalEdge, 3> kTriangleEdges{{{1, 2}, {2, 0}, {0, 1}}};  // edge m opposite corner m
   static constexpr std::array<LocalEdge, 1> kEdge{{{0, 1}}};
 

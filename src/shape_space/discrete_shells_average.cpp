@@ -63,7 +63,7 @@ public:
   ShellWeightedReferences(const DiscreteShells& shells, const std::vector<double>& weights,
                           const std::vector<const Eigen::VectorXd*>& references, const std::vector<const ShellReference*>& data)
       : shells_(shells), hyperelastic_(shells.parameters().membrane == MembraneModel::Hyperelastic) {
-    const DiscreteShellsParameters& p = shells.parameters();
+    const DiscreteShellsOptions& p = shells.parameters();
     const Eigen::Index numTriangles = shells.numTriangles();
     faces_.assign(size_t(numTriangles), {});
     if (!hyperelastic_) edges_.assign(shells.edges().size(), {});
@@ -287,7 +287,7 @@ private:
   // Classic membrane: turns the sums (sum w, sum w / x_bar) into (x_star, k a) and adds
   // k sum_i w_i (x_bar_i - x_star)^2 / x_bar_i to the constants (a second pass over the examples).
   void classicTargets(const std::vector<double>& weights, const std::vector<const ShellReference*>& references) {
-    const DiscreteShellsParameters& p = shells_.parameters();
+    const DiscreteShellsOptions& p = shells_.parameters();
     for (Face& f : faces_) {
       f.linear[0] = f.quadratic > 0.0 ? f.linear[0] / f.quadratic : 0.0;
       f.quadratic *= p.areaWeight;

@@ -100,7 +100,7 @@ void ShellPathTerms::addFaceGradient(Eigen::Index t, const FaceDerivatives& face
 }
 
 double ShellPathTerms::faceTerms(const Shape& a, const Shape& b, Eigen::VectorXd* ga, Eigen::VectorXd* gb) const {
-  const DiscreteShellsParameters& p = shells_.parameters_;
+  const DiscreteShellsOptions& p = shells_.parameters_;
   const double kappa = 0.5 * p.mu + 0.25 * p.lambda, constant = p.mu + 0.25 * p.lambda;
   double value = 0.0;
   for (size_t t = 0; t < a.faces.size(); ++t) {
@@ -237,7 +237,7 @@ namespace detail {
 const ShellReference* shellReferenceOf(const ReferenceData* data, const DiscreteShells& shells) {
   const auto* reference = dynamic_cast<const ShellReference*>(data);
   if (!reference) return nullptr;
-  const DiscreteShellsParameters& p = shells.parameters();
+  const DiscreteShellsOptions& p = shells.parameters();
   const ShellPathTerms::Shape& e = reference->elements;
   const bool fits = reference->membrane == p.membrane && e.faces.size() == size_t(shells.numTriangles()) &&
                     e.edges.size() == (p.membrane == MembraneModel::DiscreteShells ? shells.edges().size() : 0) &&

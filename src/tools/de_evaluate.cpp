@@ -30,7 +30,7 @@ using nlohmann::json;
 
 namespace {
 
-struct Settings {
+struct EvaluateOptions {
   std::string scene = "slab", set, contacts, learningCurve, densitySource = "auto", blend = "regression", coarseBag;
   std::vector<std::string> alsoSets;
   bool noFit = false, correlationOnly = false, curves = false, noGain = false, open = false;
@@ -41,7 +41,7 @@ struct Settings {
   unsigned seed = 1;
 };
 
-void addOptions(CLI::App& app, Settings& s) {
+void addOptions(CLI::App& app, EvaluateOptions& s) {
   app.add_option("--scene", s.scene, "scene to evaluate on: shipped name or scene file (.yaml)");
   app.add_option("--examples", s.set, "example set directory (any scene's: transfer), or 'default' (the scene's "
                                       "default set, acquired on first use)")->required();
@@ -129,7 +129,7 @@ json summary(const acquisition::HeldOutScore& s) {
 
 // Everything one evaluation needs: the scene, its solves, the set and the enricher it is scored with.
 struct Evaluation {
-  Settings settings;
+  EvaluateOptions settings;
   scene_file::SceneDescription scene;
   std::unique_ptr<acquisition::SceneAcquisition> acquisition;
   examples::ExampleSet set;
@@ -166,7 +166,7 @@ examples::ExampleSet loadOrAcquireSet(Evaluation& ev) {
 }
 
 void prepare(Evaluation& ev) {
-  const Settings& s = ev.settings;
+  const EvaluateOptions& s = ev.settings;
   if (!(s.sigmaRho >= 0.0) || !(s.sigmaU >= 0.0) || !std::isfinite(s.sigmaRho) || !std::isfinite(s.sigmaU))
     throw InvalidInputError("--sigma-rho and --sigma-u must be finite and >= 0 (0: fitted)");
   ev.scene = scene_file::readSceneFile(scene_file::findSceneFile(s.scene));
@@ -222,7 +222,7 @@ json perContact(const std::vector<acquisition::HeldOutCase>& cases, const acquis
 
 json report(const Evaluation& ev, const std::vector<acquisition::PlanEntry>& contacts, const acquisition::HeldOutScore& score,
             const json& contactsJson) {
-  const Settings& s = ev.settings;
+  const EvaluateOptions& s = ev.settings;
   const enrichment::ExampleBlender& blender = *ev.enricher->blender();
   json looFit = nullptr;
   if (const enrichment::StampRegression* r = blender.regression())
@@ -363,7 +363,7 @@ std::optional<acquisition::RecordedCoarse> recordedHeldOut(const Evaluation& ev)
 
 json evaluate(Evaluation& ev) {
   prepare(ev);
-  const Settings& s = ev.settings;
+  const EvaluateOptions& s = ev.settings;
   const std::vector<std::size_t> sizes = s.learningCurve.empty() ? std::vector<std::size_t>()
                                                                  : parseSizes(s.learningCurve, ev.set.examples.size());
   const std::optional<acquisition::RecordedCoarse> recorded = recordedHeldOut(ev);

@@ -126,8 +126,8 @@ struct Options {
   int skinLayers = 0, steps = 10, indentSteps = 4, maxIterations = 100;
   std::vector<double> point{0.0, 0.0}, indentDirection{0.0, 0.0, -1.0}, dragDirection{1.0, 0.0, 0.0};
   double toolRadius = 0.004, depth = 0.004, dragDistance = 0.01, tolerance = 1e-8, maxSeconds = 600.0, fixTolerance = 1e-6;
-  double exactBelow = elasticity::SolverSettings().exactHessianBelow;
-  double reuseContraction = elasticity::SolverSettings().reuseContraction;
+  double exactBelow = elasticity::SolverOptions().exactHessianBelow;
+  double reuseContraction = elasticity::SolverOptions().reuseContraction;
   bool checkCalculix = false;
   CLI::Option *skinThicknessOption = nullptr, *skinLayersOption = nullptr, *stepsOption = nullptr, *toleranceOption = nullptr;
 };
@@ -166,8 +166,8 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--out", o.outDir, "output directory (OBJ per step, log.json)");
 }
 
-elasticity::SolverSettings solverSettings(const Options& o) {
-  elasticity::SolverSettings settings;
+elasticity::SolverOptions solverSettings(const Options& o) {
+  elasticity::SolverOptions settings;
   settings.maxIterations = o.maxIterations;
   settings.relativeForceTolerance = o.tolerance;
   settings.maxSeconds = o.maxSeconds;

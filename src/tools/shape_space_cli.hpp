@@ -30,9 +30,9 @@ struct ShapeSpaceCli {
   }
 
   /// The energy's parameters for shapes whose first one is `reference` (flat 3V).
-  shape_space::DiscreteShellsParameters parameters(const Eigen::VectorXd& reference) const {
-    if (energyName == "classic") return shape_space::DiscreteShellsParameters::classic();
-    return shape_space::DiscreteShellsParameters::hyperelasticFor(reference);
+  shape_space::DiscreteShellsOptions parameters(const Eigen::VectorXd& reference) const {
+    if (energyName == "classic") return shape_space::DiscreteShellsOptions::classic();
+    return shape_space::DiscreteShellsOptions::hyperelasticFor(reference);
   }
 
   void applyTo(shape_space::ReductionOptions& options) const {

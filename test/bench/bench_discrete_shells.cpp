@@ -16,7 +16,7 @@
 namespace {
 
 using deformation_enrichment::shape_space::DiscreteShells;
-using deformation_enrichment::shape_space::DiscreteShellsParameters;
+using deformation_enrichment::shape_space::DiscreteShellsOptions;
 using deformation_enrichment::shape_space::EnergyOutputs;
 namespace test = deformation_enrichment::shape_space::test;
 
@@ -39,7 +39,7 @@ enum class Request { ValueGradientHessianDeformed, ValueGradientDeformed, All };
 
 void run(benchmark::State& state, Request request) {
   const test::FlatMesh& mesh = benchMesh();
-  DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, DiscreteShellsParameters::hyperelastic());
+  DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, DiscreteShellsOptions::hyperelastic());
   energy.setThreadCount(static_cast<int>(state.range(0)));
   const Eigen::VectorXd deformed = test::perturbed(mesh.vertices, 0.002, 2);
   double value = 0.0;

@@ -63,7 +63,7 @@ void BM_NewtonIndent(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0)), m = static_cast<int>(state.range(1));
   const auto kind = static_cast<numerics::SparseCholeskyBackend>(state.range(2));
   const Case& c = slabCase(n, m);
-  elasticity::SolverSettings settings;
+  elasticity::SolverOptions settings;
   settings.linearSolver = kind;
   if (state.range(3) == 0) settings.reuseContraction = 0.0;  // ablation: factorise every iteration
   elasticity::SolveResult result;

@@ -86,7 +86,7 @@ void geodesicCase(benchmark::State& state, Mode mode) {
   const dm::TriangleMesh a = dm::readTriangleMesh(directory + "/finger0.ply");
   const dm::TriangleMesh b = dm::readTriangleMesh(directory + "/finger1.ply");
   const ss::ShapeSequence ends = ss::makeSequence({a, b}, 2);
-  ss::DiscreteShells energy(ends.triangles, ends.numVertices(), ss::DiscreteShellsParameters::hyperelastic());
+  ss::DiscreteShells energy(ends.triangles, ends.numVertices(), ss::DiscreteShellsOptions::hyperelastic());
   ss::GeodesicOptions options;
   options.shapes = envInt("DE_BENCH_GEODESIC_SHAPES", 8);
   options.tau = 1.0;
@@ -176,7 +176,7 @@ void smoothingStep(benchmark::State& state, bool ghost, double progressTolerance
     return;
   }
   const ss::ShapeSequence seq = bendingSheet(envInt("DE_BENCH_GRID", 122), envInt("DE_BENCH_FRAMES", 140));
-  ss::DiscreteShells energy(seq.triangles, seq.numVertices(), ss::DiscreteShellsParameters::hyperelastic());
+  ss::DiscreteShells energy(seq.triangles, seq.numVertices(), ss::DiscreteShellsOptions::hyperelastic());
   ss::FlowOptions options;
   options.tau = 0.5;
   options.reduction.reduced = true;

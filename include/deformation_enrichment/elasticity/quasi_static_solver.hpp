@@ -41,7 +41,7 @@ struct IterationRecord {
 enum class SolverStatus { Converged, MaxIterations, TimeLimit, LineSearchFailed, LinearSolverFailed };
 const char* toString(SolverStatus status);
 
-struct SolverSettings {
+struct SolverOptions {
   int maxIterations = 100;
   double maxSeconds = 1e30;
   /// Converged when |f| <= max(relativeForceTolerance |f_0|, absoluteForceTolerance) where f are the
@@ -82,7 +82,7 @@ class QuasiStaticSolver {
 public:
   /// Keeps a reference to `fem`, which must outlive the solver. Throws InvalidInputError for
   /// SparseCholeskyBackend::Cholmod when the library was built without CHOLMOD.
-  explicit QuasiStaticSolver(const TetFem& fem, SolverSettings settings = SolverSettings());
+  explicit QuasiStaticSolver(const TetFem& fem, SolverOptions settings = SolverOptions());
   ~QuasiStaticSolver();
   QuasiStaticSolver(const QuasiStaticSolver&) = delete;
   QuasiStaticSolver& operator=(const QuasiStaticSolver&) = delete;
@@ -98,14 +98,14 @@ public:
   SolveResult solve(Eigen::Matrix3Xd& positions, const DirichletConstraints& constraints,
                     const AnchorSprings& springs = AnchorSprings());
 
-  const SolverSettings& settings() const { return settings_; }
-  SolverSettings& settings() { return settings_; }
+  const SolverOptions& settings() const { return settings_; }
+  SolverOptions& settings() { return settings_; }
 
 private:
   struct Linear;
   struct Run;
   const TetFem& fem_;
-  SolverSettings settings_;
+  SolverOptions settings_;
   std::unique_ptr<Linear> linear_;
 };
 

@@ -33,7 +33,7 @@
 namespace deformation_enrichment::enrichment {
 
 /// The run-time knobs (the node's dynamic_reconfigure parameters).
-struct EnrichmentKnobs {
+struct KnobOptions {
   BlendMethod blend = BlendMethod::Regression;  ///< how examples are blended (example_blender.hpp)
   DetailGain gain;
   double sigmaRho = 0.0, sigmaU = 0.0;  ///< <= 0: the set's leave-one-out fitted width
@@ -134,8 +134,8 @@ public:
   /// Applies the knobs from the next state on; a new Hermite order rebuilds the enricher on the calling
   /// thread. Throws InvalidInputError (an order above the active set's, a non-finite width or gain, a
   /// confidence outside [0, 1], a negative time constant) leaving every knob as it was.
-  void setKnobs(const EnrichmentKnobs& knobs);
-  EnrichmentKnobs knobs() const;
+  void setKnobs(const KnobOptions& knobs);
+  KnobOptions knobs() const;
 
   /// Enriches the state `positions` (3 x vertices of the active or the pending rest surface) for the tools
   /// touching it; `stampSeconds` is the state's time (the temporal filter's dt). Throws InvalidInputError
@@ -161,12 +161,12 @@ private:
   struct Built;
   /// The enricher for `rest`, `set` and `knobs` (density, descriptor options from the set, kernel widths);
   /// throws InvalidInputError.
-  std::unique_ptr<Built> build(const RestSurface& rest, const examples::ExampleSet& set, const EnrichmentKnobs& knobs) const;
+  std::unique_ptr<Built> build(const RestSurface& rest, const examples::ExampleSet& set, const KnobOptions& knobs) const;
   /// The worker: builds the newest pending rest surface and installs it between two states.
   void rebuildLoop();
   /// Builds the enricher for `set` and `knobs` on the active rest surface (outside the lock) and installs
   /// all three; throws InvalidInputError, leaving everything as it was.
-  void installConfiguration(std::shared_ptr<const examples::ExampleSet> set, const EnrichmentKnobs& knobs);
+  void installConfiguration(std::shared_ptr<const examples::ExampleSet> set, const KnobOptions& knobs);
   void resetStream();
   /// Whether the contacts, configuration and rest surface are those the memo's state was enriched with.
   bool unchanged(const std::vector<Contact>& contacts) const;
@@ -183,7 +183,7 @@ private:
   std::shared_ptr<const RestSurface> pending_;   // accepted, being built (null: none)
   std::unique_ptr<Built> enricher_;              // for active_ (null: no rest; its enricher null: no set)
   std::shared_ptr<const examples::ExampleSet> set_;
-  EnrichmentKnobs knobs_;
+  KnobOptions knobs_;
   std::uint64_t configVersion_ = 0;              // bumped by every new set, enricher or knob value
   std::uint64_t nextRestVersion_ = 1;
   bool building_ = false, stopping_ = false;

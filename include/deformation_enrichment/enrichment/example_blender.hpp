@@ -4,7 +4,7 @@
 //   - BlendMethod::Paper, [Seiler14 §5]: eq. (15) weights -> RBF interpolation with the examples'
 //     regularised kernel matrix, the kernel widths fitted by leave-one-out cross-validation when the set is
 //     loaded (examples at one contact, several patterns of one site, leave together: leave-one-site-out);
-//   - BlendMethod::Regression (the package's default, EnrichmentKnobs::blend): the stamp regression of stamp_regression.hpp, which generalises
+//   - BlendMethod::Regression (the package's default, KnobOptions::blend): the stamp regression of stamp_regression.hpp, which generalises
 //     to contacts the set does not hold (docs/accuracy.md). A set of one example blends as the paper does.
 #include <Eigen/Core>
 #include <memory>

@@ -86,7 +86,7 @@ private:
   void reject(const std::string& input, const std::string& reason, const std::string& detail);
 
   ros::NodeHandle nh_, privateNh_;
-  EnrichmentNodeParameters parameters_;
+  EnrichmentNodeOptions parameters_;
   std::optional<mesh::TetMesh> sceneVolume_;  // ~scene's volume: rest meshes from the topic lie in it too
   std::unique_ptr<enrichment::EnrichmentSession> session_;
   tf2_ros::Buffer tfBuffer_;

@@ -11,11 +11,11 @@
 
 namespace deformation_enrichment::ros_layer {
 
-struct EnrichmentNodeParameters {
+struct EnrichmentNodeOptions {
   std::string scene;          ///< ~scene: a shipped scene name or a scene file (surface, units, volume)
   std::string restMeshFile;   ///< ~rest_mesh_file (used when there is no ~scene)
   std::string exampleSet;     ///< ~example_set
-  enrichment::EnrichmentKnobs knobs;       ///< start-up values of the reconfigurable knobs
+  enrichment::KnobOptions knobs;       ///< start-up values of the reconfigurable knobs
   enrichment::SessionOptions session;      ///< window scale, continuity, site density (log not set here)
   std::optional<double> maxOutside;        ///< ~max_outside when set (else the scene's, else 2 mm)
   double segmentationScale = 0.005;        ///< ~descriptor_scale
@@ -30,6 +30,6 @@ struct EnrichmentNodeParameters {
 };
 
 /// Reads the private parameters; bad values are logged (ROS_ERROR) and replaced by their defaults.
-EnrichmentNodeParameters readEnrichmentNodeParameters(const ros::NodeHandle& privateNh);
+EnrichmentNodeOptions readEnrichmentNodeOptions(const ros::NodeHandle& privateNh);
 
 }  // namespace deformation_enrichment::ros_layer

@@ -46,7 +46,7 @@ struct HessianPattern {
 };
 }  // namespace detail
 
-struct DiscreteShellsParameters {
+struct DiscreteShellsOptions {
   MembraneModel membrane = MembraneModel::Hyperelastic;
   double lengthWeight = 0.5;  ///< k_L (DiscreteShells membrane only)
   double areaWeight = 0.5;    ///< k_A (DiscreteShells membrane only)
@@ -55,15 +55,15 @@ struct DiscreteShellsParameters {
   double bendingWeight = 1e-3;  ///< k_B (DiscreteShells) or delta (Hyperelastic)
 
   /// Paper 004 §7: k_B = 1, k_L = k_A = 1/2.
-  static DiscreteShellsParameters classic();
+  static DiscreteShellsOptions classic();
   /// GOAST's shell energy: mu = lambda = 1, bending weighted by delta.
-  static DiscreteShellsParameters hyperelastic(double delta = 1e-3);
+  static DiscreteShellsOptions hyperelastic(double delta = 1e-3);
   /// GOAST's shell energy with delta for the size of `shape` (flat 3V, bounding-box diagonal D): the
   /// membrane grows with the area and the bending term does not (delta is a squared thickness), so GOAST's
   /// delta = 1e-3 on the finger (D = 5.1313) becomes 1e-3 (D / 5.1313)^2, the same relative thickness (0.14
   /// on the MD2 models, where 1e-3 left hinges free to flap and noisy clips got rougher vertex trajectories).
   /// Throws InvalidInputError for an empty, non-finite or single-point shape.
-  static DiscreteShellsParameters hyperelasticFor(const Eigen::VectorXd& shape);
+  static DiscreteShellsOptions hyperelasticFor(const Eigen::VectorXd& shape);
 };
 
 class DiscreteShells final : public DeformationEnergy {
@@ -71,7 +71,7 @@ public:
   /// triangles: 3 x T vertex indices into numVertices vertices. Throws InvalidInputError on an empty mesh,
   /// out-of-range or repeated indices, or non-finite / negative parameters.
   DiscreteShells(const Eigen::Matrix3Xi& triangles, Eigen::Index numVertices,
-                 const DiscreteShellsParameters& parameters = DiscreteShellsParameters::hyperelastic());
+                 const DiscreteShellsOptions& parameters = DiscreteShellsOptions::hyperelastic());
 
   Eigen::Index numVertices() const override { return numVertices_; }
   /// Size, finite entries and no degenerate triangle (see the header comment).
@@ -123,7 +123,7 @@ public:
   void setThreadCount(int threads);
   int threadCount() const { return threads_; }
 
-  const DiscreteShellsParameters& parameters() const { return parameters_; }
+  const DiscreteShellsOptions& parameters() const { return parameters_; }
   Eigen::Index numTriangles() const { return triangles_.cols(); }
   const Eigen::Matrix3Xi& triangles() const { return triangles_; }
   const std::vector<Eigen::Vector2i>& edges() const { return edges_; }
@@ -158,7 +158,7 @@ private:
 
   Eigen::Matrix3Xi triangles_;
   Eigen::Index numVertices_ = 0;
-  DiscreteShellsParameters parameters_;
+  DiscreteShellsOptions parameters_;
   std::vector<Eigen::Vector2i> edges_;   ///< distinct edges (membrane length term)
   std::vector<Eigen::Vector4i> hinges_;  ///< (i, j, k, l): edge i -> j as in triangle (i, j, k), l opposite
   Eigen::Index numBoundaryEdges_ = 0;

@@ -13,7 +13,7 @@ namespace deformation_enrichment::ros_layer {
 EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
     : nh_(nh),
       privateNh_(privateNh),
-      parameters_(readEnrichmentNodeParameters(privateNh)),
+      parameters_(readEnrichmentNodeOptions(privateNh)),
       tfListener_(tfBuffer_, nh),
       diagnostics_(nh, privateNh),
       contacts_(tfBuffer_, ros::Duration(parameters_.contactTimeout)) {
@@ -25,7 +25,7 @@ EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
     else ROS_INFO("%s", text.c_str());
   };
   session_ = std::make_unique<enrichment::EnrichmentSession>(std::move(options));
-  session_->setKnobs(parameters_.knobs);  // checked by readEnrichmentNodeParameters
+  session_->setKnobs(parameters_.knobs);  // checked by readEnrichmentNodeOptions
   if (rest) {
     try {
       session_->setRestGeometry(std::move(*rest));
@@ -260,7 +260,7 @@ bool EnrichmentNode::onSegmentSites(SegmentSites::Request& request, SegmentSites
 
 void EnrichmentNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
   const enrichment::SessionDiagnostics session = session_->diagnostics();
-  const enrichment::EnrichmentKnobs knobs = session_->knobs();
+  const enrichment::KnobOptions knobs = session_->knobs();
   std::lock_guard<std::mutex> lock(mutex_);
   uint64_t droppedTotal = 0;
   for (const auto& [inputAndReason, count] : dropped_) {

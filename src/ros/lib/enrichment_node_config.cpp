@@ -62,8 +62,8 @@ bool EnrichmentNode::onLoadExampleSet(LoadExampleSet::Request& request, LoadExam
 }
 
 void EnrichmentNode::onReconfigure(EnrichmentConfig& config, uint32_t /*level*/) {
-  const enrichment::EnrichmentKnobs kept = session_->knobs();
-  enrichment::EnrichmentKnobs requested = kept;
+  const enrichment::KnobOptions kept = session_->knobs();
+  enrichment::KnobOptions requested = kept;
   requested.gain.stampGain = config.stamp_gain;
   requested.sigmaRho = config.sigma_rho;
   requested.sigmaU = config.sigma_u;

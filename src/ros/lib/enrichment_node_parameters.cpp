@@ -21,7 +21,7 @@ double checked(const ros::NodeHandle& nh, const char* name, double fallback, Val
 bool positive(double v) { return v > 0.0 && std::isfinite(v); }
 bool nonNegative(double v) { return v >= 0.0 && std::isfinite(v); }
 
-void readSession(const ros::NodeHandle& nh, EnrichmentNodeParameters& p) {
+void readSession(const ros::NodeHandle& nh, EnrichmentNodeOptions& p) {
   enrichment::ContactEnricherOptions& defaults = p.session.defaults;
   p.segmentationScale = checked(nh, "descriptor_scale", p.segmentationScale, positive, "positive");
   defaults.descriptors.window.scale = p.segmentationScale;
@@ -54,7 +54,7 @@ void readSession(const ros::NodeHandle& nh, EnrichmentNodeParameters& p) {
   if (nh.hasParam("max_outside")) p.maxOutside = checked(nh, "max_outside", density.maxOutside, nonNegative, ">= 0");
 }
 
-void readKnobs(const ros::NodeHandle& nh, enrichment::EnrichmentKnobs& k) {
+void readKnobs(const ros::NodeHandle& nh, enrichment::KnobOptions& k) {
   // Start-up values; the reconfigure server reads the same parameters (its ranges apply later).
   const std::string blend = nh.param<std::string>("blend", enrichment::toString(k.blend));
   try {
@@ -76,8 +76,8 @@ void readKnobs(const ros::NodeHandle& nh, enrichment::EnrichmentKnobs& k) {
 
 }  // namespace
 
-EnrichmentNodeParameters readEnrichmentNodeParameters(const ros::NodeHandle& nh) {
-  EnrichmentNodeParameters p;
+EnrichmentNodeOptions readEnrichmentNodeOptions(const ros::NodeHandle& nh) {
+  EnrichmentNodeOptions p;
   p.scene = nh.param<std::string>("scene", "");
   p.restMeshFile = nh.param<std::string>("rest_mesh_file", "");
   p.exampleSet = nh.param<std::string>("example_set", "");

@@ -40,7 +40,7 @@ Block makeBlock(SnhVariant variant, int cells = 3, double poisson = 0.45) {
 
 /// Releases `start` (bottom face held) and expects the rest shape back.
 void expectRecovers(const Block& block, Eigen::Matrix3Xd start, const std::string& what) {
-  SolverSettings settings;
+  SolverOptions settings;
   settings.maxIterations = 200;
   settings.relativeForceTolerance = 1e-12;  // starts far from rest have |f_0| ~ 1e4 N
   QuasiStaticSolver solver(block.fem, settings);
@@ -113,7 +113,7 @@ TEST_P(SolverStress, RandomScramblesNeverGiveNaN) {
   const Block block = makeBlock(GetParam());
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> anywhere(-kSize, 2.0 * kSize);
-  SolverSettings settings;
+  SolverOptions settings;
   settings.maxIterations = 300;
   settings.relativeForceTolerance = 1e-10;
   QuasiStaticSolver solver(block.fem, settings);
@@ -156,7 +156,7 @@ TEST(QuasiStaticSolver, PrescribedTopMatchesLinearElasticityForSmallStretch) {
   // faces, so compare against the slightly stiffer bound range instead of one value.
   for (int v : top) constraints.add(v, block.fem.rest().vertices.col(v) + Eigen::Vector3d(0, 0, strain * kSize));
   std::vector<double> energies;
-  SolverSettings settings;
+  SolverOptions settings;
   settings.callback = [&](const IterationRecord& record) { energies.push_back(record.energy); };
   QuasiStaticSolver solver(block.fem, settings);
   Eigen::Matrix3Xd x = block.fem.rest().vertices;
@@ -180,7 +180,7 @@ TEST(QuasiStaticSolver, ReportsLimitsAndRejectsBadInput) {
   const Block block = makeBlock(SnhVariant::Production);
   Eigen::Matrix3Xd x = block.fem.rest().vertices;
   x.row(2) *= -1.0;
-  SolverSettings settings;
+  SolverOptions settings;
   settings.maxIterations = 2;
   QuasiStaticSolver limited(block.fem, settings);
   Eigen::Matrix3Xd copy = x;
@@ -191,10 +191,10 @@ TEST(QuasiStaticSolver, ReportsLimitsAndRejectsBadInput) {
   EXPECT_TRUE(copy.allFinite());
   EXPECT_LT(result.energy, block.fem.energy(x));
 
-  SolverSettings bad;
+  SolverOptions bad;
   bad.reuseContraction = 1.5;
   EXPECT_THROW(QuasiStaticSolver(block.fem, bad), InvalidInputError);
-  bad = SolverSettings();
+  bad = SolverOptions();
   bad.armijo = 0.0;
   EXPECT_THROW(QuasiStaticSolver(block.fem, bad), InvalidInputError);
   QuasiStaticSolver solver(block.fem);
@@ -220,7 +220,7 @@ TEST(QuasiStaticSolver, CholmodAndLdltAgree) {
   Eigen::Matrix3Xd a = block.fem.rest().vertices;
   a.row(2) *= 0.5;
   Eigen::Matrix3Xd b = a;
-  SolverSettings settings;
+  SolverOptions settings;
   settings.linearSolver = numerics::SparseCholeskyBackend::Cholmod;
   QuasiStaticSolver cholmod(block.fem, settings);
   settings.linearSolver = numerics::SparseCholeskyBackend::EigenSimplicial;

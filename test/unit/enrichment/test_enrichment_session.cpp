@@ -289,13 +289,13 @@ TEST(EnrichmentSession, KnobsApplyFromTheNextStateAndBadOnesChangeNothing) {
   const auto tools = toolAt(state, rest);
   session->enrich(state, tools, 1.0);
   const Eigen::Matrix3Xf full = session->enrichedPositions() - state;
-  enrichment::EnrichmentKnobs half;
+  enrichment::KnobOptions half;
   half.gain.stampGain = 0.5;
   session->setKnobs(half);
   ASSERT_EQ(session->enrich(state, tools, 1.1).kind, FrameResult::Kind::Enriched) << "a knob invalidates the memo";
   const Eigen::Matrix3Xf halved = session->enrichedPositions() - state;
   EXPECT_NEAR(halved.norm(), 0.5 * full.norm(), 1e-3 * full.norm());
-  enrichment::EnrichmentKnobs bad = half;
+  enrichment::KnobOptions bad = half;
   bad.hermiteOrder = 5;  // the set stores mu up to order 2
   EXPECT_THROW(session->setKnobs(bad), InvalidInputError);
   bad = half;
@@ -306,7 +306,7 @@ TEST(EnrichmentSession, KnobsApplyFromTheNextStateAndBadOnesChangeNothing) {
   EXPECT_THROW(session->setKnobs(bad), InvalidInputError);
   EXPECT_EQ(session->knobs().gain.stampGain, 0.5);
   EXPECT_EQ(session->knobs().hermiteOrder, 0);
-  enrichment::EnrichmentKnobs lower = half;
+  enrichment::KnobOptions lower = half;
   lower.hermiteOrder = 1;
   session->setKnobs(lower);
   EXPECT_EQ(session->diagnostics().hermiteOrder, 1);
@@ -330,7 +330,7 @@ TEST(EnrichmentSession, ASetOfAnotherMaterialIsScaledByTheMaterialSimilarity) {
     EXPECT_EQ(session.enrich(state, toolAt(state, rest), 1.0).kind, FrameResult::Kind::Enriched);
     const Eigen::Matrix3Xf added = session.enrichedPositions() - state;
     // A knob change keeps the enricher and the similarity: half the gain, half the detail.
-    enrichment::EnrichmentKnobs half;
+    enrichment::KnobOptions half;
     half.gain.stampGain = 0.5;
     session.setKnobs(half);
     EXPECT_EQ(session.enrich(state, toolAt(state, rest), 1.1).kind, FrameResult::Kind::Enriched);

@@ -85,6 +85,6 @@ TEST(SparseCholesky, DefaultIsCholmodWhenBuiltWithIt) {
   EXPECT_EQ(cholesky.backend(), numerics::cholmodAvailable() ? SparseCholeskyBackend::Cholmod
                                                              : SparseCholeskyBackend::EigenSimplicial);
   if (!numerics::cholmodAvailable()) {
-    EXPECT_THROW(SparseCholesky(SparseCholeskyBackend::Cholmod), InvalidInputError);
+    EXPECT_THROW(SparseCholesky{SparseCholeskyBackend::Cholmod}, InvalidInputError);
   }
 }

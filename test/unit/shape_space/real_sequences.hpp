@@ -291,7 +291,7 @@ inline FilterComparison compareWithFilter(const ShapeSequence& input, const Flow
   std::vector<Shapes> iterates;  // after every accepted step
   double untimed = 0.0;          // copying the iterates is the test's, not the flow's
   const auto start = std::chrono::steady_clock::now();
-  DiscreteShells energy(input.triangles, input.numVertices(), DiscreteShellsParameters::hyperelasticFor(input.shapes.front()));
+  DiscreteShells energy(input.triangles, input.numVertices(), DiscreteShellsOptions::hyperelasticFor(input.shapes.front()));
   SmoothingFlow flow(energy, input, options);
   c.pathEnergy.push_back(flow.pathEnergy());
   for (int k = 0; k < steps; ++k) {

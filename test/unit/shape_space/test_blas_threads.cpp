@@ -59,7 +59,7 @@ TEST_F(BlasThreads, OpenBlasIsMadeSingleThreadedUnlessTheUserChose) {
 TEST_F(BlasThreads, FlowTangentsAreTheSameInParallelAndShapeByShape) {
   if (threads_ == 0) GTEST_SKIP() << "the BLAS is not OpenBLAS: flowTangents always runs in parallel";
   const FlatMesh base = bumpyGrid(33, 5);  // 1089 vertices: above the parallel threshold
-  const ss::DiscreteShells energy(base.triangles, base.vertices.size() / 3, ss::DiscreteShellsParameters::hyperelastic());
+  const ss::DiscreteShells energy(base.triangles, base.vertices.size() / 3, ss::DiscreteShellsOptions::hyperelastic());
   std::vector<Eigen::VectorXd> shapes;
   for (int k = 0; k < 5; ++k) shapes.push_back(bent(base.vertices, 0.3 + 0.4 * k, 0.02 * k));
   ss::setOpenBlasThreads(1);  // parallel over shapes

@@ -32,7 +32,7 @@ VectorXd rigidlyMoved(const VectorXd& shape, const Eigen::Matrix3d& rotation, co
 
 VectorXd flatten(const Eigen::Matrix3Xd& vertices) { return Eigen::Map<const VectorXd>(vertices.data(), vertices.size()); }
 
-const DiscreteShellsParameters kModels[] = {DiscreteShellsParameters::hyperelastic(0.01), DiscreteShellsParameters::classic()};
+const DiscreteShellsOptions kModels[] = {DiscreteShellsOptions::hyperelastic(0.01), DiscreteShellsOptions::classic()};
 
 TEST(DiscreteShells, ZeroEnergyAndGradientsAtTheReference) {
   for (const auto& parameters : kModels) {
@@ -80,7 +80,7 @@ TEST(DiscreteShells, InvariantToRigidMotionsOfEitherArgument) {
 
 TEST(DeformationEnergy, SeveralOutputsInOneCallMatchTheSingleCalls) {
   const test::FlatMesh mesh = test::bumpyGrid(5, 3);
-  const DiscreteShells shells(mesh.triangles, 25, DiscreteShellsParameters::classic());
+  const DiscreteShells shells(mesh.triangles, 25, DiscreteShellsOptions::classic());
   const test::ForwardingEnergy forwarding(shells);
   const VectorXd deformed = test::perturbed(mesh.vertices, 0.05, 6);
   for (const DeformationEnergy* energy : {static_cast<const DeformationEnergy*>(&shells),
@@ -99,7 +99,7 @@ TEST(DeformationEnergy, SeveralOutputsInOneCallMatchTheSingleCalls) {
 
 TEST(DiscreteShells, SerialAndParallelEvaluationsAgree) {
   const test::FlatMesh mesh = test::bumpyGrid(12, 4);
-  DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, DiscreteShellsParameters::hyperelastic());
+  DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, DiscreteShellsOptions::hyperelastic());
   const VectorXd deformed = test::perturbed(mesh.vertices, 0.03, 8);
   energy.setThreadCount(1);
   const test::AllOutputs serial = test::evaluateAll(energy, mesh.vertices, deformed);
@@ -137,7 +137,7 @@ TEST(DiscreteShells, MatchesGoastOnTheFingerPair) {
   const mesh::TriangleMesh finger0 = mesh::readTriangleMesh(directory + "finger0.ply");
   const mesh::TriangleMesh finger1 = mesh::readTriangleMesh(directory + "finger1.ply");
   ASSERT_EQ(finger0.triangles, finger1.triangles);
-  const DiscreteShells energy(finger0.triangles, finger0.numVertices(), DiscreteShellsParameters::hyperelastic(0.001));
+  const DiscreteShells energy(finger0.triangles, finger0.numVertices(), DiscreteShellsOptions::hyperelastic(0.001));
   const double w = energy.value(flatten(finger0.vertices), flatten(finger1.vertices));
   std::cout << "W[finger0, finger1] = " << std::setprecision(10) << w << " (membrane "
             << energy.membraneValue(flatten(finger0.vertices), flatten(finger1.vertices)) << ", bending "

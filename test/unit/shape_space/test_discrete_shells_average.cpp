@@ -30,7 +30,7 @@ struct References {
 // Runs check(energy) with the classic and the hyperelastic membrane on `mesh`.
 template <class Check>
 void forBothMembranes(const FlatMesh& mesh, const Check& check) {
-  for (const auto& parameters : {ss::DiscreteShellsParameters::classic(), ss::DiscreteShellsParameters::hyperelastic(0.05)})
+  for (const auto& parameters : {ss::DiscreteShellsOptions::classic(), ss::DiscreteShellsOptions::hyperelastic(0.05)})
     check(ss::DiscreteShells(mesh.triangles, mesh.vertices.size() / 3, parameters));
 }
 
@@ -72,7 +72,7 @@ TEST(WeightedReferences, EqualTheSumOfTermsWhereReferenceAnglesSpreadWidely) {
   const FlatMesh mesh = bumpyGrid(6, 4);
   const References references(mesh, 0.12, 11);
   const std::vector<double> weights{0.3, 0.45, 0.25};
-  const ss::DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, ss::DiscreteShellsParameters::classic());
+  const ss::DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, ss::DiscreteShellsOptions::classic());
   int spread = 0;
   for (const Eigen::Vector4i& h : energy.hinges()) {
     const auto angle = [&h](const Eigen::VectorXd& r) {
@@ -165,9 +165,9 @@ TEST(WeightedReferences, SharedReferenceDataGivesTheSameObjective) {
 TEST(WeightedReferences, ReferenceDataOfAnotherEnergyIsRejected) {
   const FlatMesh mesh = bumpyGrid(5, 4), other = bumpyGrid(4, 4);
   const Eigen::VectorXd x = mesh.vertices;
-  const ss::DiscreteShells classic(mesh.triangles, mesh.vertices.size() / 3, ss::DiscreteShellsParameters::classic());
-  const ss::DiscreteShells hyperelastic(mesh.triangles, mesh.vertices.size() / 3, ss::DiscreteShellsParameters::hyperelastic(0.05));
-  const ss::DiscreteShells smaller(other.triangles, other.vertices.size() / 3, ss::DiscreteShellsParameters::classic());
+  const ss::DiscreteShells classic(mesh.triangles, mesh.vertices.size() / 3, ss::DiscreteShellsOptions::classic());
+  const ss::DiscreteShells hyperelastic(mesh.triangles, mesh.vertices.size() / 3, ss::DiscreteShellsOptions::hyperelastic(0.05));
+  const ss::DiscreteShells smaller(other.triangles, other.vertices.size() / 3, ss::DiscreteShellsOptions::classic());
   // The other membrane: no edge lengths, and hinge weights with another factor.
   const auto hyperelasticData = hyperelastic.referenceData(x);
   EXPECT_THROW(classic.weightedReferences({1.0}, {&x}, {hyperelasticData.get()}), de::InvalidInputError);

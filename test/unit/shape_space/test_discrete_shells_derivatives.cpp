@@ -51,7 +51,7 @@ void expectClose(const Eigen::MatrixXd& analytic, const Eigen::MatrixXd& numeric
 
 struct Case {
   const char* name;
-  DiscreteShellsParameters parameters;
+  DiscreteShellsOptions parameters;
   bool closed;
 };
 
@@ -63,7 +63,7 @@ TEST_P(ShellDerivatives, GradientsAndAllHessianBlocksMatchFiniteDifferences) {
   const Case& c = GetParam();
   const test::FlatMesh mesh = c.closed ? test::octahedron() : test::bumpyGrid(4, 3);
   // Large bending weight so bending derivatives are not drowned by the membrane in the comparison.
-  DiscreteShellsParameters parameters = c.parameters;
+  DiscreteShellsOptions parameters = c.parameters;
   parameters.bendingWeight = 0.7;
   const DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, parameters);
   const VectorXd reference = mesh.vertices;
@@ -109,10 +109,10 @@ TEST_P(ShellDerivatives, GradientsAndAllHessianBlocksMatchFiniteDifferences) {
 
 INSTANTIATE_TEST_SUITE_P(
     BothMembranes, ShellDerivatives,
-    ::testing::Values(Case{"hyperelastic_open", DiscreteShellsParameters::hyperelastic(), false},
-                      Case{"hyperelastic_closed", DiscreteShellsParameters::hyperelastic(), true},
-                      Case{"classic_open", DiscreteShellsParameters::classic(), false},
-                      Case{"classic_closed", DiscreteShellsParameters::classic(), true}),
+    ::testing::Values(Case{"hyperelastic_open", DiscreteShellsOptions::hyperelastic(), false},
+                      Case{"hyperelastic_closed", DiscreteShellsOptions::hyperelastic(), true},
+                      Case{"classic_open", DiscreteShellsOptions::classic(), false},
+                      Case{"classic_closed", DiscreteShellsOptions::classic(), true}),
     [](const ::testing::TestParamInfo<Case>& info) { return std::string(info.param.name); });
 
 TEST(DihedralAngle, GradientAndHessianMatchFiniteDifferences) {

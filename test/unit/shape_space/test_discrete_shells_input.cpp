@@ -48,8 +48,8 @@ TEST(DiscreteShellsInput, EdgeWithThreeTrianglesIsSkippedForBending) {
   Eigen::Matrix3Xi withFin(3, 3), hingeOnly(3, 2);
   withFin << 0, 1, 0, 1, 0, 1, 2, 3, 4;
   hingeOnly << 0, 1, 1, 0, 2, 3;
-  const DiscreteShells finEnergy(withFin, 5, DiscreteShellsParameters::classic());
-  const DiscreteShells hingeEnergy(hingeOnly, 5, DiscreteShellsParameters::classic());
+  const DiscreteShells finEnergy(withFin, 5, DiscreteShellsOptions::classic());
+  const DiscreteShells hingeEnergy(hingeOnly, 5, DiscreteShellsOptions::classic());
   EXPECT_EQ(finEnergy.numNonManifoldEdges(), 1);
   EXPECT_EQ(finEnergy.numHinges(), 0);
   EXPECT_EQ(finEnergy.numBoundaryEdges(), 6);
@@ -73,7 +73,7 @@ TEST(DiscreteShellsInput, HingeFoldingThroughPiDoesNotJump) {
   };
   Eigen::Matrix3Xi triangles(3, 2);
   triangles << 0, 1, 1, 0, 2, 3;
-  const DiscreteShells energy(triangles, 4, DiscreteShellsParameters::classic());
+  const DiscreteShells energy(triangles, 4, DiscreteShellsOptions::classic());
   ASSERT_EQ(energy.numHinges(), 1);
   const double acrossPi = energy.bendingValue(hinge(M_PI - 0.05), hinge(M_PI + 0.05));
   const double belowPi = energy.bendingValue(hinge(M_PI - 0.15), hinge(M_PI - 0.05));
@@ -89,7 +89,7 @@ TEST(DiscreteShellsInput, DuplicatedTriangleCountsAsNonManifold) {
   x << 0, 0, 0, 1, 0, 0, 0, 1, 0;
   Eigen::Matrix3Xi twice(3, 2);
   twice << 0, 0, 1, 2, 2, 1;  // the same triangle with opposite winding
-  const DiscreteShells energy(twice, 3, DiscreteShellsParameters::hyperelastic());
+  const DiscreteShells energy(twice, 3, DiscreteShellsOptions::hyperelastic());
   EXPECT_EQ(energy.numHinges(), 0);
   EXPECT_EQ(energy.numNonManifoldEdges(), 3);
   EXPECT_TRUE(std::isfinite(energy.value(x, 1.1 * x)));
@@ -97,12 +97,12 @@ TEST(DiscreteShellsInput, DuplicatedTriangleCountsAsNonManifold) {
 
 TEST(DiscreteShellsInput, FinOnAGridRemovesOnlyItsOwnHinge) {
   const test::FlatMesh grid = test::bumpyGrid(5, 6);
-  const DiscreteShells plain(grid.triangles, 25, DiscreteShellsParameters::hyperelastic());
+  const DiscreteShells plain(grid.triangles, 25, DiscreteShellsOptions::hyperelastic());
   Eigen::Matrix3Xi withFin(3, grid.triangles.cols() + 1);
   withFin << grid.triangles, Eigen::Vector3i(grid.triangles(0, 10), grid.triangles(1, 10), 25);
   VectorXd vertices(3 * 26);
   vertices << grid.vertices, 0.5, 0.5, 1.0;
-  const DiscreteShells finned(withFin, 26, DiscreteShellsParameters::hyperelastic());
+  const DiscreteShells finned(withFin, 26, DiscreteShellsOptions::hyperelastic());
   EXPECT_EQ(finned.numHinges(), plain.numHinges() - 1);
   EXPECT_EQ(finned.numNonManifoldEdges(), 1);
   EXPECT_EQ(plain.numBoundaryEdges(), 16);
@@ -113,7 +113,7 @@ TEST(DiscreteShellsInput, TriangleWindingDoesNotChangeTheEnergy) {
   const test::FlatMesh mesh = test::bumpyGrid(6, 7);
   Eigen::Matrix3Xi flipped = mesh.triangles;
   for (Eigen::Index t = 0; t < flipped.cols(); t += 3) std::swap(flipped(1, t), flipped(2, t));
-  for (const auto& parameters : {DiscreteShellsParameters::hyperelastic(0.3), DiscreteShellsParameters::classic()}) {
+  for (const auto& parameters : {DiscreteShellsOptions::hyperelastic(0.3), DiscreteShellsOptions::classic()}) {
     const DiscreteShells consistent(mesh.triangles, 36, parameters);
     const DiscreteShells mixed(flipped, 36, parameters);
     const VectorXd deformed = test::perturbed(mesh.vertices, 0.06, 3);
@@ -127,7 +127,7 @@ TEST(DiscreteShellsInput, TriangleWindingDoesNotChangeTheEnergy) {
 
 TEST(DiscreteShellsInput, DegenerateTrianglesAreNamed) {
   const test::FlatMesh mesh = test::bumpyGrid(4, 8);
-  const DiscreteShells energy(mesh.triangles, 16, DiscreteShellsParameters::hyperelastic());
+  const DiscreteShells energy(mesh.triangles, 16, DiscreteShellsOptions::hyperelastic());
   const int t = 7;
   const int a = mesh.triangles(0, t), b = mesh.triangles(1, t), c = mesh.triangles(2, t);
   VectorXd collinear = mesh.vertices;  // c moved onto the segment ab
@@ -145,7 +145,7 @@ TEST(DiscreteShellsInput, NearlyDegenerateTrianglesStayFinite) {
   x << 0, 0, 0, 1, 0, 0, 0.5, 1e-6, 0, 0.5, -1, 0;
   Eigen::Matrix3Xi triangles(3, 2);
   triangles << 0, 1, 1, 0, 2, 3;
-  for (const auto& parameters : {DiscreteShellsParameters::hyperelastic(0.5), DiscreteShellsParameters::classic()}) {
+  for (const auto& parameters : {DiscreteShellsOptions::hyperelastic(0.5), DiscreteShellsOptions::classic()}) {
     const DiscreteShells energy(triangles, 4, parameters);
     VectorXd deformed = x;
     deformed.segment<3>(6) << 0.5, 2e-6, 1e-6;
@@ -156,7 +156,7 @@ TEST(DiscreteShellsInput, NearlyDegenerateTrianglesStayFinite) {
 
 TEST(DiscreteShellsInput, MalformedShapesAndTopologiesAreRejected) {
   const test::FlatMesh mesh = test::bumpyGrid(3, 9);
-  const DiscreteShells energy(mesh.triangles, 9, DiscreteShellsParameters::hyperelastic());
+  const DiscreteShells energy(mesh.triangles, 9, DiscreteShellsOptions::hyperelastic());
   VectorXd withNan = mesh.vertices;
   withNan[13] = std::numeric_limits<double>::quiet_NaN();
   expectInvalidInput([&] { energy.value(mesh.vertices, withNan); }, {"deformed", "non-finite", "vertex 4"});
@@ -169,7 +169,7 @@ TEST(DiscreteShellsInput, MalformedShapesAndTopologiesAreRejected) {
   repeated(1, 2) = repeated(0, 2);
   expectInvalidInput([&] { DiscreteShells(repeated, 9); }, {"triangle 2", "repeats"});
   expectInvalidInput([&] { DiscreteShells(Eigen::Matrix3Xi(3, 0), 9); }, {"empty"});
-  DiscreteShellsParameters negative = DiscreteShellsParameters::classic();
+  DiscreteShellsOptions negative = DiscreteShellsOptions::classic();
   negative.bendingWeight = -1.0;
   expectInvalidInput([&] { DiscreteShells(mesh.triangles, 9, negative); }, {"non-negative"});
 }

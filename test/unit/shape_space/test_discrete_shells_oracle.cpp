@@ -13,7 +13,7 @@
 namespace deformation_enrichment::shape_space {
 namespace {
 
-double oracleEnergy(const DiscreteShellsParameters& p, const Eigen::Matrix3Xi& triangles, const Eigen::VectorXd& reference,
+double oracleEnergy(const DiscreteShellsOptions& p, const Eigen::Matrix3Xi& triangles, const Eigen::VectorXd& reference,
                     const Eigen::VectorXd& deformed) {
   const std::string path = ::testing::TempDir() + "discrete_shells_oracle_input.txt";
   {
@@ -38,10 +38,10 @@ double oracleEnergy(const DiscreteShellsParameters& p, const Eigen::Matrix3Xi& t
 }
 
 TEST(DiscreteShellsOracle, ValuesMatchAnIndependentNumpyImplementation) {
-  DiscreteShellsParameters hyperelastic = DiscreteShellsParameters::hyperelastic(0.05);
+  DiscreteShellsOptions hyperelastic = DiscreteShellsOptions::hyperelastic(0.05);
   hyperelastic.mu = 1.3;
   hyperelastic.lambda = 0.7;
-  DiscreteShellsParameters classic = DiscreteShellsParameters::classic();
+  DiscreteShellsOptions classic = DiscreteShellsOptions::classic();
   classic.lengthWeight = 0.4;
   for (const auto& parameters : {hyperelastic, classic}) {
     for (const test::FlatMesh& mesh : {test::bumpyGrid(5, 21), test::octahedron()}) {

@@ -52,7 +52,7 @@ VectorXd hinge(double alpha) {
 
 TEST(PathSegments, EqualTheTermByTermSumForBothMembranesOpenAndClosed) {
   const test::FlatMesh mesh = test::bumpyGrid(6, 21);
-  for (const auto& parameters : {DiscreteShellsParameters::classic(), DiscreteShellsParameters::hyperelastic(0.3)}) {
+  for (const auto& parameters : {DiscreteShellsOptions::classic(), DiscreteShellsOptions::hyperelastic(0.3)}) {
     const DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, parameters);
     const std::vector<VectorXd> path = noisyPath(mesh, 5, 0.05);
     expectSameAsDefault(energy, path, false);
@@ -63,7 +63,7 @@ TEST(PathSegments, EqualTheTermByTermSumForBothMembranesOpenAndClosed) {
 
 TEST(PathSegments, WithoutEndGradientsTheInnerOnesAreUnchanged) {
   const test::FlatMesh mesh = test::bumpyGrid(33, 8);  // 1089 vertices: the parallel runs split the path
-  DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, DiscreteShellsParameters::hyperelastic());
+  DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, DiscreteShellsOptions::hyperelastic());
   const test::ForwardingEnergy reference(energy);
   const std::vector<VectorXd> path = noisyPath(mesh, 5, 0.002);
   for (const int threads : {1, 3}) {
@@ -85,7 +85,7 @@ TEST(PathSegments, WithoutEndGradientsTheInnerOnesAreUnchanged) {
 TEST(PathSegments, WrapTheAngleDifferenceOfAHingeFoldingThroughPi) {
   Eigen::Matrix3Xi triangles(3, 2);
   triangles << 0, 1, 1, 0, 2, 3;
-  for (const auto& parameters : {DiscreteShellsParameters::classic(), DiscreteShellsParameters::hyperelastic()}) {
+  for (const auto& parameters : {DiscreteShellsOptions::classic(), DiscreteShellsOptions::hyperelastic()}) {
     const DiscreteShells energy(triangles, 4, parameters);
     ASSERT_EQ(energy.numHinges(), 1);
     // theta = +-(pi - 0.1): the hinges differ by 0.2 rad through the fold, not by 2 pi - 0.2.
@@ -98,7 +98,7 @@ TEST(PathSegments, WrapTheAngleDifferenceOfAHingeFoldingThroughPi) {
 
 TEST(PathSegments, GradientsMatchFiniteDifferences) {
   const test::FlatMesh mesh = test::bumpyGrid(5, 4);
-  for (const auto& parameters : {DiscreteShellsParameters::classic(), DiscreteShellsParameters::hyperelastic(0.3)}) {
+  for (const auto& parameters : {DiscreteShellsOptions::classic(), DiscreteShellsOptions::hyperelastic(0.3)}) {
     const DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, parameters);
     const std::vector<VectorXd> path = noisyPath(mesh, 3, 0.04);
     std::vector<VectorXd> gradients;
@@ -123,7 +123,7 @@ TEST(PathSegments, GradientsMatchFiniteDifferences) {
 
 TEST(PathSegments, SerialAndParallelAgree) {
   const test::FlatMesh mesh = test::bumpyGrid(33, 5);  // 1089 vertices: above the parallel threshold
-  DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, DiscreteShellsParameters::hyperelastic());
+  DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, DiscreteShellsOptions::hyperelastic());
   const std::vector<VectorXd> path = noisyPath(mesh, 7, 0.002);
   std::vector<VectorXd> serialGradients, parallelGradients;
   energy.setThreadCount(1);
@@ -140,9 +140,9 @@ TEST(PathSegments, SerialAndParallelAgree) {
 // offers none.
 TEST(PathSegments, PathEnergyFromReferenceDataIsTheirSum) {
   const test::FlatMesh mesh = test::bumpyGrid(6, 21);
-  DiscreteShellsParameters flat = DiscreteShellsParameters::hyperelastic(0.3);
+  DiscreteShellsOptions flat = DiscreteShellsOptions::hyperelastic(0.3);
   flat.bendingWeight = 0.0;
-  for (const auto& parameters : {DiscreteShellsParameters::classic(), DiscreteShellsParameters::hyperelastic(0.3), flat}) {
+  for (const auto& parameters : {DiscreteShellsOptions::classic(), DiscreteShellsOptions::hyperelastic(0.3), flat}) {
     const DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, parameters);
     const std::vector<VectorXd> path = noisyPath(mesh, 5, 0.05);
     std::vector<std::shared_ptr<const ReferenceData>> kept;
@@ -157,8 +157,8 @@ TEST(PathSegments, PathEnergyFromReferenceDataIsTheirSum) {
     }
     EXPECT_THROW(energy.pathEnergy({data[0]}, false), InvalidInputError);
     const DiscreteShells other(mesh.triangles, mesh.vertices.size() / 3,
-                               parameters.membrane == MembraneModel::Hyperelastic ? DiscreteShellsParameters::classic()
-                                                                                  : DiscreteShellsParameters::hyperelastic(0.3));
+                               parameters.membrane == MembraneModel::Hyperelastic ? DiscreteShellsOptions::classic()
+                                                                                  : DiscreteShellsOptions::hyperelastic(0.3));
     const auto foreign = other.referenceData(path[2]);
     EXPECT_THROW(energy.pathEnergy({data[0], data[1], foreign.get()}, false), InvalidInputError);
     EXPECT_THROW(energy.pathEnergy({data[0], nullptr}, false), InvalidInputError);
@@ -168,7 +168,7 @@ TEST(PathSegments, PathEnergyFromReferenceDataIsTheirSum) {
 
 TEST(PathSegments, BadInputGivesClearErrors) {
   const test::FlatMesh mesh = test::bumpyGrid(4, 2);
-  const DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, DiscreteShellsParameters::hyperelastic());
+  const DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, DiscreteShellsOptions::hyperelastic());
   std::vector<VectorXd> path = noisyPath(mesh, 3, 0.01);
   EXPECT_THROW(energy.pathSegments({path[0]}, false, nullptr, true), InvalidInputError);
   path[1].segment<3>(3) = path[1].segment<3>(0);  // collapses the triangles at vertices 0 and 1

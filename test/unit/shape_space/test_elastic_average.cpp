@@ -21,7 +21,7 @@ namespace {
 
 struct AverageSetup {
   FlatMesh base = bumpyGrid(5, 11);
-  ss::DiscreteShells energy{base.triangles, base.vertices.size() / 3, ss::DiscreteShellsParameters::classic()};
+  ss::DiscreteShells energy{base.triangles, base.vertices.size() / 3, ss::DiscreteShellsOptions::classic()};
   int serial = (energy.setThreadCount(1), 1);  // tiny meshes: OpenMP overhead would dominate
   Eigen::VectorXd y0 = bent(base.vertices, 0.3);
   Eigen::VectorXd y1 = bent(base.vertices, 2.5, 0.15);

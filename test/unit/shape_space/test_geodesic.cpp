@@ -15,7 +15,7 @@ namespace {
 
 struct GeodesicSetup {
   FlatMesh base = bumpyGrid(5, 31);
-  ss::DiscreteShells energy{base.triangles, base.vertices.size() / 3, ss::DiscreteShellsParameters::classic()};
+  ss::DiscreteShells energy{base.triangles, base.vertices.size() / 3, ss::DiscreteShellsOptions::classic()};
   int serial = (energy.setThreadCount(1), 1);
   Eigen::VectorXd a = bent(base.vertices, 0.2);
   Eigen::VectorXd b = bent(base.vertices, 2.5, 0.15);

@@ -19,7 +19,7 @@ namespace {
 
 struct PathSetup {
   FlatMesh base = bumpyGrid(5, 31);
-  ss::DiscreteShells energy{base.triangles, base.vertices.size() / 3, ss::DiscreteShellsParameters::classic()};
+  ss::DiscreteShells energy{base.triangles, base.vertices.size() / 3, ss::DiscreteShellsOptions::classic()};
   int serial = (energy.setThreadCount(1), 1);  // 25 vertices: threads would only spin
   Eigen::VectorXd a = bent(base.vertices, 0.2);
   Eigen::VectorXd b = bent(base.vertices, 2.5, 0.15);
@@ -65,7 +65,7 @@ TEST(GeodesicPath, PathEnergyGradientMatchesFiniteDifferences) {
 // flowTangents and the reduced Hessian model rely on d1d1 W(x, x) = d2d2 W(x, x) = -d1d2 W(x, x).
 TEST(GeodesicPath, HessianBlocksAgreeAtTheIdentity) {
   const FlatMesh mesh = bumpyGrid(6, 8);
-  for (const auto& parameters : {ss::DiscreteShellsParameters::classic(), ss::DiscreteShellsParameters::hyperelastic()}) {
+  for (const auto& parameters : {ss::DiscreteShellsOptions::classic(), ss::DiscreteShellsOptions::hyperelastic()}) {
     const ss::DiscreteShells energy(mesh.triangles, mesh.vertices.size() / 3, parameters);
     const Eigen::VectorXd x = perturbed(mesh.vertices, 0.02, 3);
     const Eigen::MatrixXd hd = Eigen::MatrixXd(energy.hessianDeformed(x, x));

@@ -123,7 +123,7 @@ TEST_F(BentCgalMesh, LongSequenceSmoothsInEveryDirection) {
 // step instead of 148-166; with the rest Hessians every step took about as many as the first).
 TEST_F(BentCgalMesh, LaterStepsStartFromThePreviousModels) {
   const ss::ShapeSequence input = bent(24);
-  const ss::DiscreteShells energy(input.triangles, input.numVertices(), ss::DiscreteShellsParameters::hyperelasticFor(input.shapes.front()));
+  const ss::DiscreteShells energy(input.triangles, input.numVertices(), ss::DiscreteShellsOptions::hyperelasticFor(input.shapes.front()));
   ss::SmoothingFlow flow(energy, input, captureSmoothing());
   std::vector<int> iterations;
   for (int k = 0; k < 4; ++k) {

@@ -19,7 +19,7 @@ namespace {
 
 struct FlowSetup {
   FlatMesh base = bumpyGrid(5, 21);
-  ss::DiscreteShells energy{base.triangles, base.vertices.size() / 3, ss::DiscreteShellsParameters::classic()};
+  ss::DiscreteShells energy{base.triangles, base.vertices.size() / 3, ss::DiscreteShellsOptions::classic()};
   int serial = (energy.setThreadCount(1), 1);  // tiny meshes: OpenMP overhead would dominate
   ss::ShapeSequence sequence(int m, double noise, unsigned seed = 3) const {
     return ss::ShapeSequence{base.triangles, noisyBending(base, m, 0.2, 2.5, noise, seed)};
