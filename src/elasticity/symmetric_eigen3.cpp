@@ -77,10 +77,8 @@ IsolatedEigenpair isolatedEigenpair(const Eigen::Matrix3d& Ain) {
   return out;
 }
 
-}  // namespace
-
-SymmetricEigen3 symmetricEigen3(const Eigen::Matrix3d& A) {
-  const IsolatedEigenpair iso = isolatedEigenpair(A);
+// The full decomposition from the isolated eigenpair: the other two from the 2x2 problem on its complement.
+SymmetricEigen3 completeDecomposition(const IsolatedEigenpair& iso) {
   SymmetricEigen3 out;
   if (iso.multipleOfIdentity) {
     out.values.setConstant(iso.m * iso.scale);
@@ -127,6 +125,10 @@ SymmetricEigen3 symmetricEigen3(const Eigen::Matrix3d& A) {
   return out;
 }
 
+}  // namespace
+
+SymmetricEigen3 symmetricEigen3(const Eigen::Matrix3d& A) { return completeDecomposition(isolatedEigenpair(A)); }
+
 Eigen::Matrix3d psdProjection3(const Eigen::Matrix3d& A) {
   const IsolatedEigenpair iso = isolatedEigenpair(A);
   if (iso.multipleOfIdentity) return Eigen::Matrix3d::Identity() * (std::max(iso.m, 0.0) * iso.scale);
@@ -152,7 +154,8 @@ Eigen::Matrix3d psdProjection3(const Eigen::Matrix3d& A) {
     if (pairSum > 0.0) return (As - std::min(isolated, 0.0) * eeT) * iso.scale;  // pair > 0
     return (std::max(isolated, 0.0) * iso.scale) * eeT;                          // pair < 0
   }
-  const SymmetricEigen3 eig = symmetricEigen3(A);  // one eigenvalue of each sign in the pair
+  // The pair's signs differ, or their product is within its rounding: the full decomposition decides.
+  const SymmetricEigen3 eig = completeDecomposition(iso);
   return eig.vectors * eig.values.cwiseMax(0.0).asDiagonal() * eig.vectors.transpose();
 }
 
