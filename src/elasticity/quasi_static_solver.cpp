@@ -1,11 +1,13 @@
 #include "deformation_enrichment/elasticity/quasi_static_solver.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <sstream>
 
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/numerics/armijo_backtracking.hpp"
 
 namespace deformation_enrichment::elasticity {
 namespace {
@@ -232,22 +234,19 @@ struct QuasiStaticSolver::Run {
   // Back-tracking line search on the energy (Armijo condition) into `trial`; true when a step is accepted.
   bool lineSearch(const Eigen::VectorXd& d, IterationRecord& record, Eigen::Matrix3Xd& trial, double& alpha, double& trialEnergy) const {
     const Clock::time_point phase = Clock::now();
-    const double slope = d.dot(g);
-    alpha = 1.0;
-    bool accepted = false;
     // Below the round-off level of E the Armijo test only compares noise: stop back-tracking there.
     const double noise = energyNoise + 1e-12 * std::abs(energy);
-    for (int step = 0; step < settings.maxLineSearchSteps && alpha * std::abs(slope) > noise; ++step, alpha *= 0.5) {
-      trial = positions;
-      applyStep(trial, d, alpha);
-      trialEnergy = totalEnergy(trial);
-      record.lineSearchSteps = step;
-      if (trialEnergy <= energy + settings.armijo * alpha * slope) {
-        accepted = true;
-        break;
-      }
-    }
-    if (!accepted) accepted = acceptFullStepAtRoundOff(d, noise, trial, alpha, trialEnergy);
+    const numerics::ArmijoResult search = numerics::armijoBacktracking(
+        [&](double length) {
+          trial = positions;
+          applyStep(trial, d, length);
+          return totalEnergy(trial);
+        },
+        energy, d.dot(g), {settings.armijo, settings.maxLineSearchSteps, noise});
+    record.lineSearchSteps = std::max(search.trials - 1, 0);
+    alpha = search.alpha;
+    trialEnergy = search.value;
+    const bool accepted = search.accepted || acceptFullStepAtRoundOff(d, noise, trial, alpha, trialEnergy);
     record.lineSearchSeconds = secondsSince(phase);
     return accepted;
   }

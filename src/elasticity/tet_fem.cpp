@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -25,7 +26,42 @@ Eigen::Index entryIndex(const Eigen::SparseMatrix<double>& H, int row, int col) 
   return found - H.innerIndexPtr();
 }
 
+// Greedy colouring: each tet takes the smallest colour none of its vertices' earlier tets has, so tets of one
+// colour share no vertex and can scatter into vertex-indexed storage concurrently. Tet meshes need a few
+// dozen colours (bounded by 4 (max tets per vertex - 1) + 1).
+void colourTets(const mesh::TetMesh& mesh, std::vector<Eigen::Index>& order, std::vector<std::size_t>& start) {
+  std::vector<std::vector<int>> coloursAt(static_cast<std::size_t>(mesh.numVertices()));
+  Eigen::VectorXi colour(mesh.numTets());
+  std::vector<char> taken;
+  int colours = 0;
+  for (Eigen::Index t = 0; t < mesh.numTets(); ++t) {
+    taken.assign(static_cast<std::size_t>(colours) + 1, 0);
+    for (int a = 0; a < 4; ++a)
+      for (int c : coloursAt[static_cast<std::size_t>(mesh.tets(a, t))]) taken[static_cast<std::size_t>(c)] = 1;
+    const int c = static_cast<int>(std::find(taken.begin(), taken.end(), 0) - taken.begin());
+    colour[t] = c;
+    colours = std::max(colours, c + 1);
+    for (int a = 0; a < 4; ++a) coloursAt[static_cast<std::size_t>(mesh.tets(a, t))].push_back(c);
+  }
+  start.assign(static_cast<std::size_t>(colours) + 1, 0);
+  for (Eigen::Index t = 0; t < mesh.numTets(); ++t) ++start[static_cast<std::size_t>(colour[t]) + 1];
+  for (std::size_t c = 0; c < static_cast<std::size_t>(colours); ++c) start[c + 1] += start[c];
+  order.resize(static_cast<std::size_t>(mesh.numTets()));
+  std::vector<std::size_t> next(start.begin(), start.end() - 1);
+  for (Eigen::Index t = 0; t < mesh.numTets(); ++t) order[next[static_cast<std::size_t>(colour[t])]++] = t;
+}
+
 }  // namespace
+
+template <class Visit>
+void TetFem::forEachTetByColour(const Visit& visit) const {
+  const bool parallel = rest_.numTets() > kParallelTets;
+  for (std::size_t c = 0; c + 1 < colourStart_.size(); ++c) {
+    const auto begin = static_cast<std::ptrdiff_t>(colourStart_[c]), end = static_cast<std::ptrdiff_t>(colourStart_[c + 1]);
+#pragma omp parallel for schedule(static) if (parallel)
+    for (std::ptrdiff_t i = begin; i < end; ++i) visit(tetsByColour_[static_cast<std::size_t>(i)]);
+  }
+}
 
 TetFem::TetFem(const mesh::TetMesh& rest, std::vector<StableNeoHookean> materials, const Eigen::VectorXi& materialId)
     : rest_(rest), materials_(std::move(materials)), materialId_(materialId) {
@@ -46,6 +82,7 @@ TetFem::TetFem(const mesh::TetMesh& rest, std::vector<StableNeoHookean> material
     if (!dmInverse_[static_cast<std::size_t>(t)].allFinite())
       throw InvalidInputError("TetFem: rest tet " + std::to_string(t) + " is too degenerate to invert");
   }
+  colourTets(rest_, tetsByColour_, colourStart_);
 }
 
 TetFem::TetFem(const mesh::TetMesh& rest, const StableNeoHookean& material)
@@ -84,41 +121,41 @@ Eigen::Matrix<double, 9, 12> TetFem::shapeDerivative(Eigen::Index t) const {
 
 double TetFem::energy(const Eigen::Matrix3Xd& x) const {
   checkPositions(x, "energy");
-  double total = 0.0;
+  // Terms in parallel, summed in tet order: the same sum on any number of threads.
+  Eigen::VectorXd terms(rest_.numTets());
   bool finite = true;
-#pragma omp parallel for reduction(+ : total) reduction(&& : finite) schedule(static) if (rest_.numTets() > kParallelTets)
+#pragma omp parallel for reduction(&& : finite) schedule(static) if (rest_.numTets() > kParallelTets)
   for (Eigen::Index t = 0; t < rest_.numTets(); ++t) {
     const Eigen::Matrix3d F = deformationGradient(x, t);
     if (isExtreme(F)) {
       finite = false;
+      terms[t] = 0.0;
       continue;
     }
-    total += restVolume_[t] * material(t).psi(F);
+    terms[t] = restVolume_[t] * material(t).psi(F);
   }
+  double total = 0.0;
+  for (Eigen::Index t = 0; t < rest_.numTets(); ++t) total += terms[t];
   return finite && std::isfinite(total) ? total : std::numeric_limits<double>::infinity();
 }
 
 Eigen::VectorXd TetFem::gradient(const Eigen::Matrix3Xd& x) const {
   checkPositions(x, "gradient");
   Eigen::VectorXd g = Eigen::VectorXd::Zero(3 * rest_.numVertices());
-  bool extreme = false;
-#pragma omp parallel for schedule(static) reduction(|| : extreme) if (rest_.numTets() > kParallelTets)
-  for (Eigen::Index t = 0; t < rest_.numTets(); ++t) {
+  std::atomic<bool> extreme = false;
+  forEachTetByColour([&](Eigen::Index t) {
     const Eigen::Matrix3d F = deformationGradient(x, t);
     if (isExtreme(F)) {  // exceptions must not leave an OpenMP region: flag and throw after it
       extreme = true;
-      continue;
+      return;
     }
     // dE/dx = V P : dF/dx (vec(P) is column-major like vec(F)).
     const Eigen::Matrix3d P = material(t).pk1(F);
     const Eigen::Matrix<double, 12, 1> local =
         restVolume_[t] * shapeDerivative(t).transpose() * Eigen::Map<const Eigen::Matrix<double, 9, 1>>(P.data());
     for (int a = 0; a < 4; ++a)
-      for (int i = 0; i < 3; ++i) {
-#pragma omp atomic
-        g[3 * rest_.tets(a, t) + i] += local[3 * a + i];
-      }
-  }
+      for (int i = 0; i < 3; ++i) g[3 * rest_.tets(a, t) + i] += local[3 * a + i];
+  });
   if (extreme) throw InvalidInputError("TetFem::gradient: positions give a non-finite or overflowing deformation gradient");
   return g;
 }
@@ -173,13 +210,12 @@ void TetFem::assembleReduced(const Eigen::Matrix3Xd& x, const Eigen::VectorXi& d
     throw InvalidInputError("TetFem::assembleReduced: H was not built by reducedPattern for this dof map");
   std::fill(H.valuePtr(), H.valuePtr() + H.nonZeros(), 0.0);
   if (gradient) gradient->setZero(n);
-  bool patternMismatch = false, extreme = false;
-#pragma omp parallel for schedule(static) reduction(|| : patternMismatch, extreme) if (rest_.numTets() > kParallelTets)
-  for (Eigen::Index t = 0; t < rest_.numTets(); ++t) {
+  std::atomic<bool> patternMismatch = false, extreme = false;
+  forEachTetByColour([&](Eigen::Index t) {
     const Eigen::Matrix3d F = deformationGradient(x, t);
     if (isExtreme(F)) {  // exceptions must not leave an OpenMP region: flag and throw after it
       extreme = true;
-      continue;
+      return;
     }
     const StableNeoHookean& psi = material(t);
     const Eigen::Matrix<double, 9, 12> B = shapeDerivative(t);
@@ -198,20 +234,16 @@ void TetFem::assembleReduced(const Eigen::Matrix3Xd& x, const Eigen::VectorXi& d
           patternMismatch = true;
           continue;
         }
-#pragma omp atomic
         H.valuePtr()[at] += local(p, q);
       }
     }
     if (gradient) {
       const Eigen::Matrix3d P = psi.pk1(F);
       const Eigen::Matrix<double, 12, 1> g = restVolume_[t] * B.transpose() * Eigen::Map<const Vector9d>(P.data());
-      for (int p = 0; p < 12; ++p) {
-        if (dof[p] < 0) continue;
-#pragma omp atomic
-        (*gradient)[dof[p]] += g[p];
-      }
+      for (int p = 0; p < 12; ++p)
+        if (dof[p] >= 0) (*gradient)[dof[p]] += g[p];
     }
-  }
+  });
   if (extreme)
     throw InvalidInputError("TetFem::assembleReduced: positions give a non-finite or overflowing deformation gradient");
   if (patternMismatch) throw InvalidInputError("TetFem::assembleReduced: H was not built by reducedPattern for this dof map");

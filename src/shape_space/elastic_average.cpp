@@ -101,17 +101,17 @@ AverageResult elasticAverage(const DeformationEnergy& energy, const std::vector<
                              const AverageOptions& options) {
   checkInputs(weights, examples, initial);
   const AverageObjective average(energy, weights, examples, options.symmetric);
-  NewtonObjective<Eigen::SparseMatrix<double>> objective;
+  numerics::NewtonObjective<Eigen::SparseMatrix<double>> objective;
   objective.evaluate = [&](const Eigen::VectorXd& y, Eigen::VectorXd* gradient) { return average.value(y, gradient); };
   objective.hessian = [&](const Eigen::VectorXd& y) { return average.hessian(y); };
   AverageResult result;
   result.shape = initial;
-  NewtonOptions newton;
+  numerics::NewtonOptions newton;
   newton.name = "elastic average";
   newton.maxIterations = options.maxIterations;
   newton.relativeDecrementTolerance = options.relativeTolerance;
   newton.gradientSquaredTolerance = options.absoluteGradientTolerance * options.absoluteGradientTolerance;
-  const NewtonReport report = dampedNewton(objective, result.shape, newton);
+  const numerics::NewtonReport report = numerics::dampedNewton(objective, result.shape, newton);
   result.objective = report.value;
   result.iterations = report.iterations;
   result.evaluations = report.evaluations;

@@ -7,7 +7,7 @@
 #include <Eigen/SparseCore>
 
 #include "deformation_enrichment/error.hpp"
-#include "deformation_enrichment/shape_space/damped_newton.hpp"
+#include "deformation_enrichment/numerics/damped_newton.hpp"
 #include "deformation_enrichment/shape_space/path_energy.hpp"
 #include "parallel_for.hpp"
 
@@ -111,8 +111,8 @@ Eigen::SparseMatrix<double> pathHessian(const DeformationEnergy& energy, const s
 
 // The paper's stopping rule |g|^2 <= max(absoluteFactor * unknowns, relativeFactor * |g(start)|^2).
 // Dense reduced problems update a BFGS model; the full one takes a Hessian per step.
-NewtonOptions newtonOptions(const PathSolveOptions& options, Eigen::Index unknowns, const char* name, bool quasiNewton) {
-  NewtonOptions newton;
+numerics::NewtonOptions newtonOptions(const PathSolveOptions& options, Eigen::Index unknowns, const char* name, bool quasiNewton) {
+  numerics::NewtonOptions newton;
   newton.name = name;
   newton.maxIterations = options.maxIterations;
   newton.gradientSquaredTolerance = options.absoluteFactor * double(unknowns);
@@ -121,7 +121,7 @@ NewtonOptions newtonOptions(const PathSolveOptions& options, Eigen::Index unknow
   return newton;
 }
 
-PathSolveReport toPathReport(const NewtonReport& newton) {
+PathSolveReport toPathReport(const numerics::NewtonReport& newton) {
   PathSolveReport report;
   report.iterations = newton.iterations;
   report.evaluations = newton.evaluations;
@@ -159,7 +159,7 @@ PathSolveReport minimisePathEnergyReduced(const EvaluationSpace& space, std::vec
   // Quasi-Newton ([Brandt16 §6]: BFGS with a good initial Hessian): the Hessian model at the start, then
   // BFGS updates from gradients only (measured on the finger: L-BFGS with a rest-Hessian preconditioner
   // needed 200-400 evaluations, this 35).
-  NewtonObjective<Eigen::MatrixXd> objective;
+  numerics::NewtonObjective<Eigen::MatrixXd> objective;
   objective.evaluate = [&](const Eigen::VectorXd& q, Eigen::VectorXd* gradient) {
     std::vector<Eigen::VectorXd> gradients;
     const double f = pathEnergyOrInfinity(evaluated, evalShapes(q), gradient ? &gradients : nullptr);
@@ -176,7 +176,7 @@ PathSolveReport minimisePathEnergyReduced(const EvaluationSpace& space, std::vec
   };
   Eigen::VectorXd q = Eigen::VectorXd::Zero(unknowns);
   const Eigen::MatrixXd start = given ? reducedHessianModel(*given, evalBasis, evaluated.numVertices()) : objective.hessian(q);
-  PathSolveReport report = toPathReport(dampedNewton(objective, q, newtonOptions(options, unknowns, "reduced path energy", true), &start));
+  PathSolveReport report = toPathReport(numerics::dampedNewton(objective, q, newtonOptions(options, unknowns, "reduced path energy", true), &start));
   for (int k = 1; k + 1 < count; ++k) shapes[size_t(k)] += basis * q.segment(d * (k - 1), d);
   return report;
 }
@@ -191,7 +191,7 @@ PathSolveReport minimisePathEnergyFull(const DeformationEnergy& energy, std::vec
     for (int k = 1; k + 1 < count; ++k) path[size_t(k)] = x.segment(n * (k - 1), n);
     return path;
   };
-  NewtonObjective<Eigen::SparseMatrix<double>> objective;
+  numerics::NewtonObjective<Eigen::SparseMatrix<double>> objective;
   objective.evaluate = [&](const Eigen::VectorXd& x, Eigen::VectorXd* gradient) {
     std::vector<Eigen::VectorXd> gradients;
     const double f = pathEnergyOrInfinity(energy, unpack(x), gradient ? &gradients : nullptr);
@@ -204,7 +204,7 @@ PathSolveReport minimisePathEnergyFull(const DeformationEnergy& energy, std::vec
   objective.hessian = [&](const Eigen::VectorXd& x) { return pathHessian(energy, unpack(x)); };
   Eigen::VectorXd x(unknowns);
   for (int k = 1; k + 1 < count; ++k) x.segment(n * (k - 1), n) = shapes[size_t(k)];
-  PathSolveReport report = toPathReport(dampedNewton(objective, x, newtonOptions(options, unknowns, "full path energy", false)));
+  PathSolveReport report = toPathReport(numerics::dampedNewton(objective, x, newtonOptions(options, unknowns, "full path energy", false)));
   shapes = unpack(x);
   return report;
 }

@@ -8,7 +8,7 @@
 #include <Eigen/SparseCore>
 
 #include "deformation_enrichment/error.hpp"
-#include "deformation_enrichment/shape_space/damped_newton.hpp"
+#include "deformation_enrichment/numerics/damped_newton.hpp"
 
 namespace deformation_enrichment::shape_space {
 
@@ -60,7 +60,7 @@ AverageResult reducedElasticAverage(const DeformationEnergy& energy, const std::
     throw InvalidInputError("reduced average: tolerances must be >= 0");
   const Eigen::MatrixXd& basis = *space.basis;
   const AverageObjective average(energy, weights, examples, options.symmetric, data);
-  NewtonObjective<Eigen::MatrixXd> objective;
+  numerics::NewtonObjective<Eigen::MatrixXd> objective;
   objective.evaluate = [&](const Eigen::VectorXd& q, Eigen::VectorXd* gradient) {
     Eigen::VectorXd gradY;
     const double f = average.value(space.lift(q), gradient ? &gradY : nullptr);
@@ -72,7 +72,7 @@ AverageResult reducedElasticAverage(const DeformationEnergy& energy, const std::
     return Eigen::MatrixXd(0.5 * (h + h.transpose()));
   };
   Eigen::VectorXd q = space.coordinates(initial);
-  NewtonOptions newton;
+  numerics::NewtonOptions newton;
   newton.name = "reduced average";
   newton.maxIterations = options.maxIterations;
   newton.quasiNewton = true;
@@ -80,7 +80,7 @@ AverageResult reducedElasticAverage(const DeformationEnergy& energy, const std::
   newton.progressDecrementTolerance = options.progressTolerance;
   newton.gradientSquaredTolerance = options.absoluteTolerance * options.absoluteTolerance;
   AverageResult result;
-  const NewtonReport report = dampedNewton(objective, q, newton, &space.warmStart, &result.reducedModel);
+  const numerics::NewtonReport report = numerics::dampedNewton(objective, q, newton, &space.warmStart, &result.reducedModel);
   result.shape = space.lift(q);
   result.reducedCoordinates = std::move(q);
   result.objective = report.value;

@@ -2,7 +2,7 @@
 // Quasi-static equilibrium of a TetFem body under Dirichlet constraints: minimise E(x) over the free
 // vertices with Newton's method on the PSD-projected Hessian (the analytic eigensystem of [Masanti19]
 // §3.3.5 clamps each element's negative modes, so every Newton system is positive semi-definite),
-// sparse Cholesky, and a back-tracking line search on the energy.
+// sparse Cholesky, and the Armijo back-tracking line search on the energy (both in numerics/).
 #include <Eigen/Core>
 #include <functional>
 #include <memory>

@@ -10,7 +10,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
-#include "deformation_enrichment/shape_space/damped_newton.hpp"
+#include "deformation_enrichment/numerics/damped_newton.hpp"
 #include "deformation_enrichment/shape_space/deformation_energy.hpp"
 
 namespace deformation_enrichment::shape_space {
@@ -29,13 +29,13 @@ struct AverageResult {
   double objective = 0.0;
   int iterations = 0;
   int evaluations = 0;  ///< objective evaluations
-  MinimiserStatus status = MinimiserStatus::NotConverged;
+  numerics::MinimiserStatus status = numerics::MinimiserStatus::NotConverged;
   double gradientNorm = 0.0;  ///< |gradient| at shape (reduced solver: of the reduced objective)
   /// Reduced solver only: q with shape = origin + basis q (lets a ghost-mesh solve be lifted to the fine mesh).
   Eigen::VectorXd reducedCoordinates;
   /// Reduced solver only: its quasi-Newton model of the Hessian at the end (a warm start for a similar average).
   Eigen::MatrixXd reducedModel;
-  bool converged() const { return status != MinimiserStatus::NotConverged; }
+  bool converged() const { return status != numerics::MinimiserStatus::NotConverged; }
 };
 
 /// The objective of eq. 10 / eq. 1 prepared once for the solvers: eq. 10 through the energy's aggregated

@@ -15,7 +15,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
-#include "deformation_enrichment/shape_space/damped_newton.hpp"
+#include "deformation_enrichment/numerics/damped_newton.hpp"
 #include "deformation_enrichment/shape_space/deformation_energy.hpp"
 #include "deformation_enrichment/shape_space/evaluation_space.hpp"
 
@@ -34,7 +34,7 @@ struct PathSolveReport {
   int evaluations = 0;  ///< evaluations of eq. 4, with derivatives or value only (each 2K energy passes)
   double gradientSquaredNorm = 0.0;  ///< at the end, as in the stopping rule
   double threshold = 0.0;            ///< the stopping rule's bound
-  MinimiserStatus status = MinimiserStatus::NotConverged;
+  numerics::MinimiserStatus status = numerics::MinimiserStatus::NotConverged;
   bool converged = false;            ///< the rule was met, or no step lowers eq. 4 measurably (status RoundOff)
 };
 

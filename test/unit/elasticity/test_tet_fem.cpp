@@ -1,7 +1,11 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <random>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "deformation_enrichment/elasticity/tet_fem.hpp"
 #include "deformation_enrichment/error.hpp"
@@ -169,4 +173,35 @@ TEST(TetFem, RejectsBadInput) {
   EXPECT_THROW(fem.gradient(nan), InvalidInputError);
   EXPECT_THROW(fem.hessian(nan), InvalidInputError);
   EXPECT_THROW(elasticity::makeDofMap(8, {8}), InvalidInputError);
+}
+
+// Parallel assembly colours the tets instead of adding atomically: the energy, gradient and Hessian of a
+// mesh large enough to run in parallel are the same bits on one thread and on three.
+TEST(TetFem, AssemblyIsTheSameBitsOnAnyNumberOfThreads) {
+  const mesh::TetMesh m = mesh::gridTetMesh(Eigen::Vector3d::Zero(), Eigen::Vector3d(0.1, 0.1, 0.05), Eigen::Vector3i(10, 10, 5));
+  ASSERT_GT(m.numTets(), 2000);  // the parallel path
+  const auto lame = elasticity::lameFromYoungPoisson(1e4, 0.45);
+  const TetFem fem(m, StableNeoHookean(lame.mu, lame.lambda, SnhVariant::Production));
+  const Eigen::Matrix3Xd x = perturbed(fem, 0.002, 7);
+  struct Assembly {
+    double energy;
+    Eigen::VectorXd gradient;
+    Eigen::SparseMatrix<double> hessian;
+  };
+  const auto assemble = [&](int threads) {
+#ifdef _OPENMP
+    omp_set_num_threads(threads);
+#else
+    (void)threads;
+#endif
+    return Assembly{fem.energy(x), fem.gradient(x), fem.hessian(x, HessianKind::Projected)};
+  };
+  const Assembly one = assemble(1), three = assemble(3);
+#ifdef _OPENMP
+  omp_set_num_threads(omp_get_num_procs());
+#endif
+  EXPECT_EQ(one.energy, three.energy);
+  EXPECT_TRUE(one.gradient == three.gradient);
+  ASSERT_EQ(one.hessian.nonZeros(), three.hessian.nonZeros());
+  EXPECT_TRUE(std::equal(one.hessian.valuePtr(), one.hessian.valuePtr() + one.hessian.nonZeros(), three.hessian.valuePtr()));
 }

@@ -143,7 +143,7 @@ TEST(ElasticAverage, NonConvergenceReturnsTheLastIterateWithItsStatus) {
   ss::AverageOptions opt;
   opt.maxIterations = 1;
   const ss::AverageResult full = ss::elasticAverage(s.energy, s.w, s.ys, s.y2, opt);
-  EXPECT_EQ(full.status, ss::MinimiserStatus::NotConverged);
+  EXPECT_EQ(full.status, de::numerics::MinimiserStatus::NotConverged);
   EXPECT_EQ(full.iterations, 1);
   EXPECT_LT(full.objective, f0);  // an accepted step: lower than the start
   EXPECT_NEAR(full.objective, ss::averageObjective(s.energy, s.w, s.ys, full.shape, false, nullptr), 1e-12 * f0);
@@ -155,7 +155,7 @@ TEST(ElasticAverage, NonConvergenceReturnsTheLastIterateWithItsStatus) {
   ss::ReducedAverageOptions ropt;
   ropt.maxIterations = 2;
   const ss::AverageResult reduced = ss::reducedElasticAverage(s.energy, s.w, s.ys, space, s.y2, ropt);
-  EXPECT_EQ(reduced.status, ss::MinimiserStatus::NotConverged);
+  EXPECT_EQ(reduced.status, de::numerics::MinimiserStatus::NotConverged);
   EXPECT_LT(reduced.objective, f0);
   EXPECT_GT(reduced.gradientNorm, 0.0);
 }

@@ -1,8 +1,10 @@
 #pragma once
-// The one minimiser of the shape-space solvers: damped Newton ([Nocedal06 §3.4]), i.e. Levenberg-Marquardt
-// damping of a Hessian (or of a BFGS-updated Hessian model, [Brandt16 §6] "Solving the reduced problem")
-// and an Armijo backtracking line search. Used by the elastic averages (eq. 10 / eq. 1) in full and reduced
-// space and by the path energy (eq. 4) in full and reduced space.
+// A general damped Newton minimiser ([Nocedal06 §3.4]), i.e. Levenberg-Marquardt damping of a Hessian (or of
+// a BFGS-updated Hessian model, [Brandt16 §6] "Solving the reduced problem") and the Armijo backtracking of
+// armijo_backtracking.hpp. The shape space minimises with it: the elastic averages (eq. 10 / eq. 1) and the
+// path energy (eq. 4), each in full and reduced space. The tet simulator's QuasiStaticSolver shares its line
+// search and sparse Cholesky but keeps its own iteration, which reuses factorisations between steps and
+// switches to the exact Hessian near equilibrium.
 //
 // It cannot fail on a descent direction: the damping is raised until the factorisation succeeds and the
 // step descends, and the backtracking halves the step until the Armijo test holds or the predicted decrease
@@ -14,7 +16,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
-namespace deformation_enrichment::shape_space {
+namespace deformation_enrichment::numerics {
 
 enum class MinimiserStatus {
   Converged,    ///< a stopping rule was met
@@ -76,4 +78,4 @@ extern template NewtonReport dampedNewton<Eigen::SparseMatrix<double>>(const New
                                                                        const Eigen::SparseMatrix<double>*,
                                                                        Eigen::SparseMatrix<double>*);
 
-}  // namespace deformation_enrichment::shape_space
+}  // namespace deformation_enrichment::numerics

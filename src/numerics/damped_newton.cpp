@@ -1,4 +1,4 @@
-#include "deformation_enrichment/shape_space/damped_newton.hpp"
+#include "deformation_enrichment/numerics/damped_newton.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,20 +9,21 @@
 #include <Eigen/Cholesky>
 
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/numerics/armijo_backtracking.hpp"
 #include "deformation_enrichment/numerics/sparse_cholesky.hpp"
 
-namespace deformation_enrichment::shape_space {
+namespace deformation_enrichment::numerics {
 namespace {
 
 using Sparse = Eigen::SparseMatrix<double>;
 
 constexpr double kMinDamping = 1e-10;  // relative to the mean diagonal: at first only the rigid null space
 constexpr int kDampingAttempts = 40;   // x10 each: up to 1e30, where the step is scaled steepest descent
-constexpr int kHalvings = 30;          // Armijo backtracking per attempt
+constexpr int kHalvings = 30;          // Armijo backtracking trials per attempt
 constexpr double kArmijo = 1e-4;
 
 // Cholesky factorisation of H + shift I; fails for indefinite matrices (the caller then raises the shift).
-// Dense here, sparse in numerics::SparseCholesky.
+// Dense here, sparse in SparseCholesky.
 template <class Matrix>
 class ShiftedCholesky;
 
@@ -42,7 +43,7 @@ private:
 };
 
 template <>
-class ShiftedCholesky<Sparse> : public numerics::SparseCholesky {};
+class ShiftedCholesky<Sparse> : public SparseCholesky {};
 
 double meanAbsDiagonal(const Eigen::MatrixXd& h) { return std::max(h.diagonal().cwiseAbs().mean(), 1e-300); }
 double meanAbsDiagonal(const Sparse& h) { return std::max(Eigen::VectorXd(h.diagonal()).cwiseAbs().mean(), 1e-300); }
@@ -82,19 +83,20 @@ Step searchStep(const NewtonObjective<Matrix>& objective, const Eigen::VectorXd&
       step.outcome = StepOutcome::RoundOff;
       return step;
     }
-    double alpha = 1.0;
-    for (int halving = 0; halving < kHalvings && alpha * decrement > resolution(f); ++halving, alpha *= 0.5) {
-      // The full step is usually accepted: try it with the gradient, shorter ones by value only.
-      Eigen::VectorXd trialGradient;
-      const double value = objective.evaluate(x + alpha * step.direction, alpha == 1.0 ? &trialGradient : nullptr);
-      ++report.evaluations;
-      if (std::isfinite(value) && value <= f - kArmijo * alpha * decrement) {
-        step.outcome = StepOutcome::Accepted;
-        step.alpha = alpha;
-        step.value = value;
-        step.gradient = std::move(trialGradient);
-        return step;
-      }
+    // The full step is usually accepted: try it with the gradient, shorter ones by value only.
+    Eigen::VectorXd trialGradient;
+    const ArmijoResult search = armijoBacktracking(
+        [&](double alpha) {
+          ++report.evaluations;
+          return objective.evaluate(x + alpha * step.direction, alpha == 1.0 ? &trialGradient : nullptr);
+        },
+        f, -decrement, {kArmijo, kHalvings, resolution(f)});
+    if (search.accepted) {
+      step.outcome = StepOutcome::Accepted;
+      step.alpha = search.alpha;
+      step.value = search.value;
+      if (search.alpha == 1.0) step.gradient = std::move(trialGradient);
+      return step;
     }
   }
   return step;
@@ -194,4 +196,4 @@ template NewtonReport dampedNewton<Eigen::MatrixXd>(const NewtonObjective<Eigen:
 template NewtonReport dampedNewton<Sparse>(const NewtonObjective<Sparse>&, Eigen::VectorXd&, const NewtonOptions&,
                                            const Sparse*, Sparse*);
 
-}  // namespace deformation_enrichment::shape_space
+}  // namespace deformation_enrichment::numerics
