@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "deformation_enrichment/ros/enrichment_markers.hpp"
+#include "deformation_enrichment/ros/enrichment_node_parameters.hpp"
 
 namespace de = deformation_enrichment;
 
@@ -123,19 +124,19 @@ TEST(EnrichmentMarkers, StrainColoursShowEachTrianglesLargestPrincipalStrain) {
 TEST(EnrichmentMarkers, CoarseOffsetParameterIsAVectorOfThreeElseOff) {
   ros::NodeHandle nh("marker_options_test");
   nh.setParam("marker_coarse_offset", std::vector<double>{0.0, -0.11, 0.01});
-  EXPECT_TRUE(de::ros_layer::markerOptionsFromParams(nh).coarseOffset.isApprox(Eigen::Vector3d(0.0, -0.11, 0.01)));
+  EXPECT_TRUE(de::ros_layer::readMarkerOptions(nh).coarseOffset.isApprox(Eigen::Vector3d(0.0, -0.11, 0.01)));
   nh.setParam("marker_coarse_offset", std::vector<double>{0.1, 0.2});
-  EXPECT_TRUE(de::ros_layer::markerOptionsFromParams(nh).coarseOffset.isZero());
+  EXPECT_TRUE(de::ros_layer::readMarkerOptions(nh).coarseOffset.isZero());
   nh.deleteParam("marker_coarse_offset");
-  EXPECT_TRUE(de::ros_layer::markerOptionsFromParams(nh).coarseOffset.isZero());
-  EXPECT_EQ(de::ros_layer::markerOptionsFromParams(nh).color, de::ros_layer::MarkerOptions::Color::Displacement);
+  EXPECT_TRUE(de::ros_layer::readMarkerOptions(nh).coarseOffset.isZero());
+  EXPECT_EQ(de::ros_layer::readMarkerOptions(nh).color, de::ros_layer::MarkerOptions::Color::Displacement);
   nh.setParam("marker_color", "strain");
-  EXPECT_EQ(de::ros_layer::markerOptionsFromParams(nh).color, de::ros_layer::MarkerOptions::Color::Strain);
+  EXPECT_EQ(de::ros_layer::readMarkerOptions(nh).color, de::ros_layer::MarkerOptions::Color::Strain);
   nh.setParam("marker_color", "pressure");
-  EXPECT_EQ(de::ros_layer::markerOptionsFromParams(nh).color, de::ros_layer::MarkerOptions::Color::Displacement);
+  EXPECT_EQ(de::ros_layer::readMarkerOptions(nh).color, de::ros_layer::MarkerOptions::Color::Displacement);
   nh.setParam("marker_strain_scale", 0.0);
   nh.setParam("marker_displacement_scale", std::nan(""));
-  const auto fallback = de::ros_layer::markerOptionsFromParams(nh);
+  const auto fallback = de::ros_layer::readMarkerOptions(nh);
   EXPECT_EQ(fallback.strainScale, de::ros_layer::MarkerOptions().strainScale) << "a zero scale would colour NaN";
   EXPECT_EQ(fallback.displacementScale, de::ros_layer::MarkerOptions().displacementScale);
 }

@@ -2,7 +2,6 @@
 // rviz markers of the enrichment: the enriched surface coloured by the displacement the enrichment
 // added and shaded, optionally the coarse input surface beside it, a colour bar of the scale, and the
 // tool contacts with their normals.
-#include <ros/node_handle.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include <Eigen/Core>
@@ -24,11 +23,6 @@ struct MarkerOptions {
   /// Where the coarse input surface is drawn relative to the enriched one [m]; zero: not drawn.
   Eigen::Vector3d coarseOffset = Eigen::Vector3d::Zero();
 };
-
-/// The options from ~marker_max_triangles, ~marker_color (displacement | strain; anything else is reported
-/// and displacement used), ~marker_displacement_scale, ~marker_strain_scale and ~marker_coarse_offset
-/// ([x, y, z]; anything else is reported and leaves the coarse surface off).
-MarkerOptions markerOptionsFromParams(const ros::NodeHandle& privateNh);
 
 /// Namespaces: enriched_surface, coarse_surface (when options.coarseOffset is not zero), colour_bar,
 /// contacts, contact_normals; the enriched surface's triangle list is the first marker. With strain colours

@@ -27,12 +27,12 @@
 #include "deformation_enrichment/SegmentSites.h"
 #include "deformation_enrichment/ToolContactArray.h"
 #include "deformation_enrichment/enrichment/enrichment_session.hpp"
-#include "deformation_enrichment/enrichment/tool_tip.hpp"
 #include "deformation_enrichment/ros/contact_tracker.hpp"
 #include "deformation_enrichment/ros/enrichment_node_parameters.hpp"
+#include "deformation_enrichment/ros/marker_publisher.hpp"
 #include "deformation_enrichment/ros/master_watch.hpp"
-#include "deformation_enrichment/ros/sequence_gaps.hpp"
-#include "deformation_enrichment/ros/tool_pose_sources.hpp"
+#include "deformation_enrichment/ros/node_counters.hpp"
+#include "deformation_enrichment/ros/tool_pose_input.hpp"
 
 namespace deformation_enrichment::ros_layer {
 
@@ -45,45 +45,23 @@ private:
   void onRestMesh(const pcl_msgs::PolygonMeshConstPtr& message);
   void onMeshState(const ros::MessageEvent<const sensor_msgs::PointCloud2>& event);
   void onContacts(const ToolContactArrayConstPtr& message);
-  /// One tool's pose topic (~tool_poses, or tool_pose and tool_transform) with its tip geometry.
-  struct ToolPoseSource {
-    ToolPoseSpec spec;
-    enrichment::ToolTip tip;
-    std::string tipStatus;  ///< the tip's description, or why the URDF tip was not used
-    ros::Subscriber subscriber;
-  };
-  /// Subscribes the pose topics of ~tool_poses (or the default pair); an unusable list is logged and the
-  /// default pair subscribed instead.
-  void subscribeToolPoses();
-  /// Checks a tool's pose and keeps it as the tool's latest (a bad one is logged and dropped).
-  void updateToolPose(const geometry_msgs::PoseStamped& pose, const ToolPoseSource& source);
-  /// The tools in contact with the state `positions` (stamped `stamp`) of `rest`: the kept tool poses are
-  /// resolved against this very state (so a contact lies on the state it goes with however poses and states
-  /// interleave; a pose stamped over a second after the state, a rosbag started over, is forgotten), then
-  /// every tracked contact that is not stale.
-  std::vector<TrackedContact> touchingTools(const ros::Time& stamp, const Eigen::Matrix3Xf& positions,
-                                            const enrichment::RestSurface& rest);
   /// Publishes the enriched state of `message` (the input itself when nothing changed: nodelets share it),
   /// its status, and keeps what the markers show.
   void publish(const sensor_msgs::PointCloud2ConstPtr& message, const enrichment::FrameResult& result,
                const std::vector<TrackedContact>& touching, std::chrono::steady_clock::time_point start);
-  void onMarkerTimer(const ros::TimerEvent&);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
   bool onSegmentSites(SegmentSites::Request& request, SegmentSites::Response& response);
   bool onLoadExampleSet(LoadExampleSet::Request& request, LoadExampleSet::Response& response);
   /// Loads a set into the session; throws Error, leaving the previous set active.
   void loadExampleSet(const std::string& path);
   void onReconfigure(EnrichmentConfig& config, uint32_t level);
-  /// `link`'s collision geometry from robot_description (a point tip for an empty link, or without a
-  /// usable URDF, logged); `status` describes which.
-  enrichment::ToolTip loadToolTip(const std::string& link, std::string& status) const;
   /// The rest geometry at start-up: ~scene (surface, units, volume), else ~rest_mesh_file, else none (the
   /// rest_mesh topic). Logs what it uses or why not.
   std::optional<enrichment::RestGeometry> startupRest();
-  /// Logs (throttled per input and kind of problem) why an input was dropped, and counts it.
-  /// Counts a dropped input under its input and reason (a short fixed label, one diagnostics entry each),
-  /// remembers `detail` as the last error and logs it, throttled per input and reason.
-  void reject(const std::string& input, const std::string& reason, const std::string& detail);
+  /// Counts and logs a dropped input (NodeCounters::drop).
+  void reject(const std::string& input, const std::string& reason, const std::string& detail) {
+    counters_.drop(input, reason, detail);
+  }
 
   ros::NodeHandle nh_, privateNh_;
   EnrichmentNodeOptions parameters_;
@@ -92,35 +70,25 @@ private:
   tf2_ros::Buffer tfBuffer_;
   tf2_ros::TransformListener tfListener_;
 
-  std::vector<std::unique_ptr<ToolPoseSource>> toolSources_;  // stable addresses: the callbacks hold them
+  std::unique_ptr<ToolPoseInput> tools_;
   ros::Subscriber restMeshSub_, meshStateSub_, contactsSub_;
-  ros::Publisher enrichedPub_, statusPub_, markersPub_, siteRegionsPub_;
+  ros::Publisher enrichedPub_, statusPub_, siteRegionsPub_;
+  std::unique_ptr<MarkerPublisher> markers_;
   // Slow services run on their own queue and thread, so the enrichment never waits for them.
   ros::CallbackQueue serviceQueue_;
   std::unique_ptr<ros::AsyncSpinner> serviceSpinner_;
   ros::ServiceServer segmentSitesService_, loadExampleSetService_;
   boost::recursive_mutex reconfigureMutex_;
   std::unique_ptr<dynamic_reconfigure::Server<EnrichmentConfig>> reconfigureServer_;
-  ros::Timer markerTimer_, diagnosticsTimer_;
+  ros::Timer diagnosticsTimer_;
   diagnostic_updater::Updater diagnostics_;
   std::unique_ptr<diagnostic_updater::HeaderlessTopicDiagnostic> outputRate_;
 
   std::mutex mutex_;  // nodelet managers call back from several threads; guards everything below
   ContactTracker contacts_;
-  // The latest pose of each tool id, with the source it came from.
-  std::map<std::string, std::pair<geometry_msgs::PoseStamped, const ToolPoseSource*>> toolPoses_;
   std::string meshFrame_;
   Eigen::Matrix3Xf state_;  // the current state's positions (storage reused from state to state)
-  // What the markers show: the last good state, what was published for it, and its contacts.
-  sensor_msgs::PointCloud2ConstPtr lastInput_, lastOutput_;
-  std::vector<TrackedContact> lastTouching_;
-  // Statistics for diagnostics.
-  uint64_t statesIn_ = 0, statesOut_ = 0;
-  std::map<std::string, uint64_t> dropped_;  // by "input: reason"
-  SequenceGaps statesLost_;                  // mesh states lost in the queues before the callback
-  std::string lastError_;
-  double lastComputeMs_ = 0.0, maxComputeMs_ = 0.0;
-  std::map<std::string, ros::WallTime> lastLogged_;
+  NodeCounters counters_;
   std::unique_ptr<MasterWatch> masterWatch_;  // last: stops first
 };
 

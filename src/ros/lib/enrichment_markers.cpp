@@ -1,11 +1,12 @@
 #include "deformation_enrichment/ros/enrichment_markers.hpp"
 
+#include <ros/console.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <functional>
 #include <string>
-#include <tuple>
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/kinematics/triangle_deformation_gradient.hpp"
@@ -156,31 +157,6 @@ std::string formatted(const char* format, double value) {
 }
 
 }  // namespace
-
-MarkerOptions markerOptionsFromParams(const ros::NodeHandle& privateNh) {
-  MarkerOptions options;
-  options.maxTriangles = privateNh.param("marker_max_triangles", options.maxTriangles);
-  options.displacementScale = privateNh.param("marker_displacement_scale", options.displacementScale);
-  options.strainScale = privateNh.param("marker_strain_scale", options.strainScale);
-  for (auto [name, scale, fallback] : {std::tuple{"marker_displacement_scale", &options.displacementScale, MarkerOptions().displacementScale},
-                                       std::tuple{"marker_strain_scale", &options.strainScale, MarkerOptions().strainScale}})
-    if (!(*scale > 0.0 && std::isfinite(*scale))) {
-      ROS_ERROR("~%s must be positive and finite, got %g: using %g", name, *scale, fallback);
-      *scale = fallback;
-    }
-  const std::string color = privateNh.param<std::string>("marker_color", "displacement");
-  if (color == "strain") options.color = MarkerOptions::Color::Strain;
-  else if (color != "displacement")
-    ROS_ERROR("~marker_color '%s' is neither 'displacement' nor 'strain': showing the displacement", color.c_str());
-  std::vector<double> offset;
-  if (privateNh.getParam("marker_coarse_offset", offset)) {
-    if (offset.size() == 3 && std::all_of(offset.begin(), offset.end(), [](double v) { return std::isfinite(v); }))
-      options.coarseOffset = Eigen::Vector3d(offset[0], offset[1], offset[2]);
-    else
-      ROS_ERROR("~marker_coarse_offset must be [x, y, z] in metres (finite); not drawing the coarse surface");
-  }
-  return options;
-}
 
 visualization_msgs::MarkerArray enrichmentMarkers(const std_msgs::Header& header, const mesh::TriangleMesh& rest,
                                                   const Eigen::Matrix3Xf& input, const Eigen::Matrix3Xf& enriched,

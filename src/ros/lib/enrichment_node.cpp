@@ -5,7 +5,6 @@
 #include "deformation_enrichment/descriptors/site_segmentation.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/ros/conversions.hpp"
-#include "deformation_enrichment/ros/enrichment_markers.hpp"
 #include "deformation_enrichment/ros/site_regions.hpp"
 
 namespace deformation_enrichment::ros_layer {
@@ -16,7 +15,8 @@ EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
       parameters_(readEnrichmentNodeOptions(privateNh)),
       tfListener_(tfBuffer_, nh),
       diagnostics_(nh, privateNh),
-      contacts_(tfBuffer_, ros::Duration(parameters_.contactTimeout)) {
+      contacts_(tfBuffer_, ros::Duration(parameters_.contactTimeout)),
+      counters_(parameters_.errorThrottle) {
   std::optional<enrichment::RestGeometry> rest = startupRest();
   enrichment::SessionOptions options = parameters_.session;
   options.log = [](enrichment::SessionLogLevel level, const std::string& text) {
@@ -41,12 +41,15 @@ EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
       diagnostic_updater::FrequencyStatusParam(&parameters_.minRate, &parameters_.maxRate, 0.1, 10));
   enrichedPub_ = nh_.advertise<sensor_msgs::PointCloud2>("enriched_mesh_state", 2);
   statusPub_ = privateNh_.advertise<EnrichmentStatus>("status", 10);
-  markersPub_ = privateNh_.advertise<visualization_msgs::MarkerArray>("markers", 1);
+  markers_ = std::make_unique<MarkerPublisher>(nh_, privateNh_, parameters_.markerRate, parameters_.markers,
+                                               [this](Eigen::Index vertices) { return session_->restFor(vertices); });
   // No transport hints: nodelets then receive the publisher's shared pointer (zero copy).
   restMeshSub_ = nh_.subscribe("rest_mesh", 1, &EnrichmentNode::onRestMesh, this);
   meshStateSub_ = nh_.subscribe("mesh_state", 2, &EnrichmentNode::onMeshState, this);
   contactsSub_ = nh_.subscribe("contacts", 10, &EnrichmentNode::onContacts, this);
-  subscribeToolPoses();
+  tools_ = std::make_unique<ToolPoseInput>(nh_, parameters_.toolPoses, parameters_.robotDescription,
+                                           [this](const std::string& input, const std::string& reason,
+                                                  const std::string& detail) { reject(input, reason, detail); });
 
   siteRegionsPub_ = privateNh_.advertise<visualization_msgs::MarkerArray>("site_regions", 1, /*latch=*/true);
   ros::NodeHandle serviceNh(privateNh_);
@@ -68,22 +71,8 @@ EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
   reconfigureServer_ = std::make_unique<dynamic_reconfigure::Server<EnrichmentConfig>>(reconfigureMutex_, serviceNh);
   reconfigureServer_->setCallback([this](EnrichmentConfig& config, uint32_t level) { onReconfigure(config, level); });
 
-  if (parameters_.markerRate > 0.0)
-    markerTimer_ = nh_.createTimer(ros::Duration(1.0 / parameters_.markerRate), &EnrichmentNode::onMarkerTimer, this);
   diagnosticsTimer_ = nh_.createTimer(ros::Duration(0.5), [this](const ros::TimerEvent&) { diagnostics_.update(); });
   masterWatch_ = std::make_unique<MasterWatch>(privateNh_, parameters_.masterCheckPeriod);
-}
-
-void EnrichmentNode::reject(const std::string& input, const std::string& reason, const std::string& detail) {
-  const std::string key = input + ": " + reason;
-  ++dropped_[key];
-  lastError_ = key + " (" + detail + ")";
-  const ros::WallTime now = ros::WallTime::now();
-  auto& last = lastLogged_[key];
-  if (last.isZero() || (now - last).toSec() >= parameters_.errorThrottle) {
-    last = now;
-    ROS_ERROR("dropped %s: %s: %s (keeping the last good state)", input.c_str(), reason.c_str(), detail.c_str());
-  }
 }
 
 void EnrichmentNode::onRestMesh(const pcl_msgs::PolygonMeshConstPtr& message) {
@@ -100,8 +89,7 @@ void EnrichmentNode::onMeshState(const ros::MessageEvent<const sensor_msgs::Poin
   const auto start = std::chrono::steady_clock::now();
   const sensor_msgs::PointCloud2ConstPtr& message = event.getConstMessage();
   std::lock_guard<std::mutex> lock(mutex_);
-  ++statesIn_;
-  statesLost_.observe(event.getPublisherName(), message->header.seq);
+  counters_.stateIn(event.getPublisherName(), message->header.seq);
   Eigen::Matrix3Xf& positions = state_;  // reused: no allocation per state
   try {
     positionsFromCloud(*message, positions);
@@ -117,7 +105,8 @@ void EnrichmentNode::onMeshState(const ros::MessageEvent<const sensor_msgs::Poin
                       std::to_string(newest->geometry.surface.numVertices()) + " vertices");
   }
   meshFrame_ = message->header.frame_id;
-  std::vector<TrackedContact> touching = touchingTools(message->header.stamp, positions, *rest);
+  tools_->resolve(message->header.stamp, meshFrame_, positions, *rest, parameters_.toolContactDistance, contacts_);
+  std::vector<TrackedContact> touching = contacts_.active(message->header.stamp);
   std::vector<enrichment::ToolContact> tools;
   for (const TrackedContact& contact : touching) tools.push_back({contact.toolId, contact.position});
   try {
@@ -141,11 +130,7 @@ void EnrichmentNode::publish(const sensor_msgs::PointCloud2ConstPtr& message, co
   }
   enrichedPub_.publish(enriched);
   outputRate_->tick();
-  ++statesOut_;
-  // What the markers show, decoded only when they are drawn (shared pointers: no copy here).
-  lastInput_ = message;
-  lastOutput_ = enriched;
-  lastTouching_ = touching;
+  markers_->keep(message, enriched, touching);
 
   EnrichmentStatus status;
   status.header = message->header;
@@ -158,9 +143,9 @@ void EnrichmentNode::publish(const sensor_msgs::PointCloud2ConstPtr& message, co
   status.rest_building = result.restPending;
   status.states_reused = session_->diagnostics().statesReused;
   for (const auto& contact : touching) status.tool_ids.push_back(contact.toolId);
-  lastComputeMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  maxComputeMs_ = std::max(maxComputeMs_, lastComputeMs_);
-  status.compute_ms = static_cast<float>(lastComputeMs_);
+  const double computeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  counters_.stateOut(computeMs);
+  status.compute_ms = static_cast<float>(computeMs);
   statusPub_.publish(status);
 }
 
@@ -172,50 +157,6 @@ void EnrichmentNode::onContacts(const ToolContactArrayConstPtr& message) {
   } catch (const Error& e) {
     reject("contacts", "invalid contact", e.what());
   }
-}
-
-void EnrichmentNode::updateToolPose(const geometry_msgs::PoseStamped& pose, const ToolPoseSource& source) {
-  std::lock_guard<std::mutex> lock(mutex_);
-  try {
-    ContactTracker::linkPose(pose, source.spec.id, source.tip);
-    toolPoses_[source.spec.id] = {pose, &source};
-  } catch (const Error& e) {
-    reject(source.spec.topic, "invalid pose", e.what());
-  }
-}
-
-std::vector<TrackedContact> EnrichmentNode::touchingTools(const ros::Time& stamp, const Eigen::Matrix3Xf& positions,
-                                                          const enrichment::RestSurface& rest) {
-  for (auto it = toolPoses_.begin(); it != toolPoses_.end();) {
-    const auto& [pose, source] = it->second;
-    if (pose.header.stamp > stamp + ros::Duration(1.0)) {
-      reject(source->spec.topic, "pose stamped over 1 s after the mesh state",
-             "pose " + std::to_string(pose.header.stamp.toSec()) + " s, state " + std::to_string(stamp.toSec()) + " s");
-      it = toolPoses_.erase(it);
-      continue;
-    }
-    try {
-      // A URDF tip is measured against the triangles (exact, 1.39 ms at 100k vertices, bench_tool_contact);
-      // a point tip against the vertices (0.33 ms), its contact being the tip itself.
-      contacts_.updateFromToolPose(pose, source->spec.id, meshFrame_, positions, rest.normals, parameters_.toolContactDistance,
-                                   source->tip, source->tip.isPoint() ? nullptr : &rest.geometry.surface.triangles);
-    } catch (const Error& e) {
-      reject(source->spec.topic, "no contact from this pose", e.what());
-    }
-    ++it;
-  }
-  return contacts_.active(stamp);
-}
-
-void EnrichmentNode::onMarkerTimer(const ros::TimerEvent&) {
-  if (markersPub_.getNumSubscribers() == 0) return;  // markers cost megabytes: only for an audience
-  std::lock_guard<std::mutex> lock(mutex_);
-  if (!lastInput_) return;
-  const Eigen::Matrix3Xf input = positionsFromCloud(*lastInput_), output = positionsFromCloud(*lastOutput_);
-  const auto rest = session_->restFor(input.cols());
-  if (!rest) return;
-  markersPub_.publish(enrichmentMarkers(lastInput_->header, rest->geometry.surface, input, output, lastTouching_,
-                                        parameters_.markers));
 }
 
 bool EnrichmentNode::onSegmentSites(SegmentSites::Request& request, SegmentSites::Response& response) {
@@ -262,18 +203,7 @@ void EnrichmentNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& statu
   const enrichment::SessionDiagnostics session = session_->diagnostics();
   const enrichment::KnobOptions knobs = session_->knobs();
   std::lock_guard<std::mutex> lock(mutex_);
-  uint64_t droppedTotal = 0;
-  for (const auto& [inputAndReason, count] : dropped_) {
-    status.add("dropped " + inputAndReason, count);
-    droppedTotal += count;
-  }
-  if (session.restVertices == 0 && !session.rebuilding) {
-    status.summary(diagnostic_msgs::DiagnosticStatus::WARN, "waiting for a rest mesh");
-  } else if (droppedTotal > 0) {
-    status.summary(diagnostic_msgs::DiagnosticStatus::WARN, "inputs dropped; last: " + lastError_);
-  } else {
-    status.summary(diagnostic_msgs::DiagnosticStatus::OK, "enriching");
-  }
+  counters_.report(status, session.restVertices == 0 && !session.rebuilding);
   status.add("rest vertices", session.restVertices);
   status.add("site density", session.siteDensity);
   status.add("rest surface being built", session.rebuilding);
@@ -281,13 +211,7 @@ void EnrichmentNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& statu
   status.add("rest surfaces superseded while building", session.supersededRebuilds);
   status.add("last rest build [s]", session.lastRebuildSeconds);
   status.add("last rest surface refused", session.lastRestError);
-  status.add("mesh states in", statesIn_);
-  status.add("mesh states lost in the input queue (newer states came first)", statesLost_.total());
-  status.add("enriched states out", statesOut_);
-  status.add("last compute [ms]", lastComputeMs_);
-  status.add("max compute [ms]", maxComputeMs_);
   status.add("states reused (unchanged input)", session.statesReused);
-  status.add("last error", lastError_);
   status.add("blend requested", enrichment::toString(knobs.blend));
   status.add("blend", session.blend);
   status.add("material similarity (stamp scale)", session.materialSimilarity);
@@ -304,7 +228,7 @@ void EnrichmentNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& statu
     status.add("sigma_rho fitted", session.fittedWidths.sigmaRho);
     status.add("sigma_u fitted", session.fittedWidths.sigmaU);
   }
-  for (const auto& source : toolSources_) status.add("tool tip of " + source->spec.id + " on " + source->spec.topic, source->tipStatus);
+  tools_->report(status);
 }
 
 }  // namespace deformation_enrichment::ros_layer

@@ -1,6 +1,5 @@
 // The enrichment node's configuration at run time: the rest surface at start-up (~scene, ~rest_mesh_file),
-// example sets, the dynamically reconfigurable knobs, the tool pose topics and their tips' geometry from
-// robot_description. Slow work (building an enricher) runs in the session, outside the frame path.
+// example sets and the dynamically reconfigurable knobs. Slow work (building an enricher) runs in the session, outside the frame path.
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/examples/example_set_io.hpp"
 #include "deformation_enrichment/mesh/mesh_io.hpp"
@@ -102,66 +101,6 @@ void EnrichmentNode::onReconfigure(EnrichmentConfig& config, uint32_t /*level*/)
   config.min_confidence = requested.gain.minConfidence;
   config.temporal_smoothing = requested.temporalSmoothing;
   config.blend = enrichment::toString(requested.blend);
-}
-
-enrichment::ToolTip EnrichmentNode::loadToolTip(const std::string& link, std::string& status) const {
-  if (link.empty()) {
-    status = enrichment::ToolTip().description();
-    return {};
-  }
-  std::string key, urdf;
-  if (!privateNh_.searchParam("robot_description", key) || !privateNh_.getParam(key, urdf)) {
-    status = "point (no robot_description for tip link '" + link + "')";
-    ROS_WARN("tip link '%s' is set but there is no robot_description: the tool pose position is the tip", link.c_str());
-    return {};
-  }
-  try {
-    enrichment::ToolTip tip = enrichment::toolTipFromUrdf(urdf, link);
-    status = tip.description();
-    ROS_INFO("tool tip: %s", status.c_str());
-    return tip;
-  } catch (const Error& e) {
-    status = std::string("point (robot_description rejected: ") + e.what() + ")";
-    ROS_ERROR("tool tip from robot_description rejected: %s; the tool pose position is the tip", e.what());
-    return {};
-  }
-}
-
-void EnrichmentNode::subscribeToolPoses() {
-  std::vector<ToolPoseSpec> specs = defaultToolPoseSpecs(parameters_.toolPoseId, parameters_.toolTipLink);
-  XmlRpc::XmlRpcValue list;
-  if (privateNh_.getParam("tool_poses", list)) {
-    try {
-      std::vector<ToolPoseSpec> listed = toolPoseSpecs(list);
-      if (!listed.empty()) specs = std::move(listed);
-    } catch (const Error& e) {
-      ROS_ERROR("%s: subscribing tool_pose and tool_transform instead", e.what());
-    }
-  }
-  for (const ToolPoseSpec& spec : specs) {
-    auto source = std::make_unique<ToolPoseSource>();
-    source->spec = spec;
-    source->tip = loadToolTip(spec.tipLink, source->tipStatus);
-    const ToolPoseSource* self = source.get();
-    if (spec.type == ToolPoseSpec::Type::Pose) {
-      source->subscriber = nh_.subscribe<geometry_msgs::PoseStamped>(
-          spec.topic, 10, [this, self](const geometry_msgs::PoseStampedConstPtr& message) { updateToolPose(*message, *self); });
-    } else {
-      source->subscriber = nh_.subscribe<geometry_msgs::TransformStamped>(
-          spec.topic, 10, [this, self](const geometry_msgs::TransformStampedConstPtr& message) {
-            geometry_msgs::PoseStamped pose;
-            pose.header = message->header;  // the transform's parent frame is the pose's frame
-            pose.pose.position.x = message->transform.translation.x;
-            pose.pose.position.y = message->transform.translation.y;
-            pose.pose.position.z = message->transform.translation.z;
-            pose.pose.orientation = message->transform.rotation;
-            updateToolPose(pose, *self);
-          });
-    }
-    ROS_INFO("tool '%s' from %s (%s)", spec.id.c_str(), source->subscriber.getTopic().c_str(),
-             spec.type == ToolPoseSpec::Type::Pose ? "geometry_msgs/PoseStamped" : "geometry_msgs/TransformStamped");
-    toolSources_.push_back(std::move(source));
-  }
 }
 
 }  // namespace deformation_enrichment::ros_layer

@@ -2,7 +2,10 @@
 
 #include <ros/console.h>
 
+#include <algorithm>
 #include <cmath>
+#include <tuple>
+#include <vector>
 
 #include "deformation_enrichment/error.hpp"
 
@@ -74,7 +77,49 @@ void readKnobs(const ros::NodeHandle& nh, enrichment::KnobOptions& k) {
   k.temporalSmoothing = checked(nh, "temporal_smoothing", k.temporalSmoothing, nonNegative, ">= 0");
 }
 
+// ~tool_poses, else the default pair of topics; ~robot_description when a tip link needs it.
+void readToolPoses(const ros::NodeHandle& nh, EnrichmentNodeOptions& p) {
+  p.toolPoses = defaultToolPoseSpecs(p.toolPoseId, p.toolTipLink);
+  XmlRpc::XmlRpcValue list;
+  if (nh.getParam("tool_poses", list)) {
+    try {
+      std::vector<ToolPoseSpec> listed = toolPoseSpecs(list);
+      if (!listed.empty()) p.toolPoses = std::move(listed);
+    } catch (const Error& e) {
+      ROS_ERROR("%s: subscribing tool_pose and tool_transform instead", e.what());
+    }
+  }
+  const bool needsUrdf = std::any_of(p.toolPoses.begin(), p.toolPoses.end(), [](const ToolPoseSpec& s) { return !s.tipLink.empty(); });
+  std::string key, urdf;
+  if (needsUrdf && nh.searchParam("robot_description", key) && nh.getParam(key, urdf)) p.robotDescription = urdf;
+}
+
 }  // namespace
+
+MarkerOptions readMarkerOptions(const ros::NodeHandle& privateNh) {
+  MarkerOptions options;
+  options.maxTriangles = privateNh.param("marker_max_triangles", options.maxTriangles);
+  options.displacementScale = privateNh.param("marker_displacement_scale", options.displacementScale);
+  options.strainScale = privateNh.param("marker_strain_scale", options.strainScale);
+  for (auto [name, scale, fallback] : {std::tuple{"marker_displacement_scale", &options.displacementScale, MarkerOptions().displacementScale},
+                                       std::tuple{"marker_strain_scale", &options.strainScale, MarkerOptions().strainScale}})
+    if (!(*scale > 0.0 && std::isfinite(*scale))) {
+      ROS_ERROR("~%s must be positive and finite, got %g: using %g", name, *scale, fallback);
+      *scale = fallback;
+    }
+  const std::string color = privateNh.param<std::string>("marker_color", "displacement");
+  if (color == "strain") options.color = MarkerOptions::Color::Strain;
+  else if (color != "displacement")
+    ROS_ERROR("~marker_color '%s' is neither 'displacement' nor 'strain': showing the displacement", color.c_str());
+  std::vector<double> offset;
+  if (privateNh.getParam("marker_coarse_offset", offset)) {
+    if (offset.size() == 3 && std::all_of(offset.begin(), offset.end(), [](double v) { return std::isfinite(v); }))
+      options.coarseOffset = Eigen::Vector3d(offset[0], offset[1], offset[2]);
+    else
+      ROS_ERROR("~marker_coarse_offset must be [x, y, z] in metres (finite); not drawing the coarse surface");
+  }
+  return options;
+}
 
 EnrichmentNodeOptions readEnrichmentNodeOptions(const ros::NodeHandle& nh) {
   EnrichmentNodeOptions p;
@@ -87,7 +132,8 @@ EnrichmentNodeOptions readEnrichmentNodeOptions(const ros::NodeHandle& nh) {
   p.toolContactDistance = checked(nh, "tool_contact_distance", p.toolContactDistance, nonNegative, ">= 0");
   p.toolPoseId = nh.param<std::string>("tool_pose_id", p.toolPoseId);
   p.toolTipLink = nh.param<std::string>("tool_tip_link", "");
-  p.markers = markerOptionsFromParams(nh);
+  readToolPoses(nh, p);
+  p.markers = readMarkerOptions(nh);
   p.markerRate = checked(nh, "marker_rate", p.markerRate, nonNegative, ">= 0 (0: no markers)");
   p.errorThrottle = checked(nh, "error_throttle", p.errorThrottle, nonNegative, ">= 0");
   p.masterCheckPeriod = checked(nh, "master_check_period", p.masterCheckPeriod, nonNegative, ">= 0 (0: never)");
