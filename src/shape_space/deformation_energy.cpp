@@ -23,6 +23,18 @@ void checkSizeAndFinite(const Eigen::VectorXd& shape, Eigen::Index numVertices, 
     }
   }
 }
+
+// evaluate's output `member` alone.
+template <class T>
+T single(const DeformationEnergy& energy, T* EnergyOutputs::*member, const Eigen::VectorXd& reference,
+         const Eigen::VectorXd& deformed) {
+  T result{};
+  EnergyOutputs outputs;
+  outputs.*member = &result;
+  energy.evaluate(reference, deformed, outputs);
+  return result;
+}
+
 }  // namespace
 
 void DeformationEnergy::checkShapes(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const {
@@ -32,14 +44,23 @@ void DeformationEnergy::checkShapes(const Eigen::VectorXd& reference, const Eige
 
 void DeformationEnergy::checkShape(const Eigen::VectorXd& shape) const { checkSizeAndFinite(shape, numVertices(), "given"); }
 
-void DeformationEnergy::evaluate(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed,
-                                 const EnergyOutputs& outputs) const {
-  if (outputs.value) *outputs.value = value(reference, deformed);
-  if (outputs.gradientDeformed) *outputs.gradientDeformed = gradientDeformed(reference, deformed);
-  if (outputs.gradientReference) *outputs.gradientReference = gradientReference(reference, deformed);
-  if (outputs.hessianDeformed) *outputs.hessianDeformed = hessianDeformed(reference, deformed);
-  if (outputs.hessianMixed) *outputs.hessianMixed = hessianMixed(reference, deformed);
-  if (outputs.hessianReference) *outputs.hessianReference = hessianReference(reference, deformed);
+double DeformationEnergy::value(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const {
+  return single(*this, &EnergyOutputs::value, reference, deformed);
+}
+Eigen::VectorXd DeformationEnergy::gradientDeformed(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const {
+  return single(*this, &EnergyOutputs::gradientDeformed, reference, deformed);
+}
+Eigen::VectorXd DeformationEnergy::gradientReference(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const {
+  return single(*this, &EnergyOutputs::gradientReference, reference, deformed);
+}
+Eigen::SparseMatrix<double> DeformationEnergy::hessianDeformed(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const {
+  return single(*this, &EnergyOutputs::hessianDeformed, reference, deformed);
+}
+Eigen::SparseMatrix<double> DeformationEnergy::hessianMixed(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const {
+  return single(*this, &EnergyOutputs::hessianMixed, reference, deformed);
+}
+Eigen::SparseMatrix<double> DeformationEnergy::hessianReference(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const {
+  return single(*this, &EnergyOutputs::hessianReference, reference, deformed);
 }
 
 std::unique_ptr<DeformationEnergy> DeformationEnergy::onTriangles(const Eigen::Matrix3Xi&, Eigen::Index) const {

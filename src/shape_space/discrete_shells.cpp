@@ -425,33 +425,18 @@ void DiscreteShells::evaluate(const Eigen::VectorXd& reference, const Eigen::Vec
   assemble(reference, deformed, outputs, kMembrane | kBending);
 }
 
-
-double DiscreteShells::value(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const {
-  return one(&EnergyOutputs::value, reference, deformed, kMembrane | kBending);
+double DiscreteShells::partsValue(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed, unsigned parts) const {
+  double value = 0.0;
+  EnergyOutputs outputs;
+  outputs.value = &value;
+  assemble(reference, deformed, outputs, parts);
+  return value;
 }
 double DiscreteShells::membraneValue(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const {
-  return one(&EnergyOutputs::value, reference, deformed, kMembrane);
+  return partsValue(reference, deformed, kMembrane);
 }
 double DiscreteShells::bendingValue(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const {
-  return one(&EnergyOutputs::value, reference, deformed, kBending);
-}
-Eigen::VectorXd DiscreteShells::gradientDeformed(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const {
-  return one(&EnergyOutputs::gradientDeformed, reference, deformed, kMembrane | kBending);
-}
-Eigen::VectorXd DiscreteShells::gradientReference(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const {
-  return one(&EnergyOutputs::gradientReference, reference, deformed, kMembrane | kBending);
-}
-Eigen::SparseMatrix<double> DiscreteShells::hessianDeformed(const Eigen::VectorXd& reference,
-                                                            const Eigen::VectorXd& deformed) const {
-  return one(&EnergyOutputs::hessianDeformed, reference, deformed, kMembrane | kBending);
-}
-Eigen::SparseMatrix<double> DiscreteShells::hessianMixed(const Eigen::VectorXd& reference,
-                                                         const Eigen::VectorXd& deformed) const {
-  return one(&EnergyOutputs::hessianMixed, reference, deformed, kMembrane | kBending);
-}
-Eigen::SparseMatrix<double> DiscreteShells::hessianReference(const Eigen::VectorXd& reference,
-                                                             const Eigen::VectorXd& deformed) const {
-  return one(&EnergyOutputs::hessianReference, reference, deformed, kMembrane | kBending);
+  return partsValue(reference, deformed, kBending);
 }
 
 }  // namespace deformation_enrichment::shape_space

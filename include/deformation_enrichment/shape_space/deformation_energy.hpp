@@ -51,34 +51,31 @@ public:
   /// non-finite entry (the default), plus the implementation's own conditions (e.g. degenerate triangles).
   virtual void checkShape(const Eigen::VectorXd& shape) const;
 
+  /// Several outputs at once, e.g. evaluate(xBar, x, {&value, &gradient, nullptr, &hessian}); an
+  /// implementation shares one pass between them.
+  virtual void evaluate(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed,
+                        const EnergyOutputs& outputs) const = 0;
+
+  // One output each, computed by one evaluate call.
+
   /// W[reference, deformed].
-  virtual double value(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const = 0;
+  double value(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const;
 
   /// dW/dx, size 3V (derivative with respect to the deformed shape).
-  virtual Eigen::VectorXd gradientDeformed(const Eigen::VectorXd& reference,
-                                           const Eigen::VectorXd& deformed) const = 0;
+  Eigen::VectorXd gradientDeformed(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const;
 
   /// dW/dx_bar, size 3V (derivative with respect to the reference shape).
-  virtual Eigen::VectorXd gradientReference(const Eigen::VectorXd& reference,
-                                            const Eigen::VectorXd& deformed) const = 0;
+  Eigen::VectorXd gradientReference(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const;
 
   /// d^2W/dx^2, 3V x 3V, symmetric (both triangles stored).
-  virtual Eigen::SparseMatrix<double> hessianDeformed(const Eigen::VectorXd& reference,
-                                                      const Eigen::VectorXd& deformed) const = 0;
+  Eigen::SparseMatrix<double> hessianDeformed(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const;
 
   /// d^2W/(dx_bar dx), 3V x 3V: entry (i, j) = d^2W / (d x_bar_i d x_j), i.e. rows index the reference
   /// and columns the deformed shape. Its transpose is d^2W/(dx dx_bar).
-  virtual Eigen::SparseMatrix<double> hessianMixed(const Eigen::VectorXd& reference,
-                                                   const Eigen::VectorXd& deformed) const = 0;
+  Eigen::SparseMatrix<double> hessianMixed(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const;
 
   /// d^2W/dx_bar^2, 3V x 3V, symmetric (both triangles stored).
-  virtual Eigen::SparseMatrix<double> hessianReference(const Eigen::VectorXd& reference,
-                                                       const Eigen::VectorXd& deformed) const = 0;
-
-  /// Several outputs at once, e.g. evaluate(xBar, x, {&value, &gradient, nullptr, &hessian}). The default
-  /// calls the single-output methods one by one; implementations override it to share one pass.
-  virtual void evaluate(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed,
-                        const EnergyOutputs& outputs) const;
+  Eigen::SparseMatrix<double> hessianReference(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const;
 
   /// The same energy (same parameters) over another triangle topology of numVertices vertices, e.g. a ghost
   /// mesh (ghost_mesh.hpp). The default throws InvalidInputError: not every energy has one.

@@ -76,16 +76,6 @@ public:
   Eigen::Index numVertices() const override { return numVertices_; }
   /// Size, finite entries and no degenerate triangle (see the header comment).
   void checkShape(const Eigen::VectorXd& shape) const override;
-  double value(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const override;
-  Eigen::VectorXd gradientDeformed(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const override;
-  Eigen::VectorXd gradientReference(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed) const override;
-  Eigen::SparseMatrix<double> hessianDeformed(const Eigen::VectorXd& reference,
-                                              const Eigen::VectorXd& deformed) const override;
-  Eigen::SparseMatrix<double> hessianMixed(const Eigen::VectorXd& reference,
-                                           const Eigen::VectorXd& deformed) const override;
-  Eigen::SparseMatrix<double> hessianReference(const Eigen::VectorXd& reference,
-                                               const Eigen::VectorXd& deformed) const override;
-
   /// Several outputs (the non-null members of `outputs`) in one pass over the mesh.
   void evaluate(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed,
                 const EnergyOutputs& outputs) const override;
@@ -141,15 +131,8 @@ private:
   /// The requested outputs of the given parts (OR of Parts) in one pass.
   void assemble(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed, const EnergyOutputs& outputs,
                 unsigned parts) const;
-  /// One output of a pass over `parts`.
-  template <class T>
-  T one(T* EnergyOutputs::*member, const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed, unsigned parts) const {
-    T result{};
-    EnergyOutputs outputs;
-    outputs.*member = &result;
-    assemble(reference, deformed, outputs, parts);
-    return result;
-  }
+  /// The value of a pass over `parts` alone.
+  double partsValue(const Eigen::VectorXd& reference, const Eigen::VectorXd& deformed, unsigned parts) const;
   void checkTriangles(const Eigen::VectorXd& shape, const char* name) const;
   /// Throws InvalidInputError naming triangle t of `shape` (e.g. "the deformed shape").
   [[noreturn]] void throwDegenerate(Eigen::Index t, const std::string& shape, double area) const;

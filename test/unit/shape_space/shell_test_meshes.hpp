@@ -76,23 +76,14 @@ inline FlatMesh octahedron() {
   return m;
 }
 
-/// Forwards only the single-output methods, so evaluate(..., EnergyOutputs) and pathSegments run the
-/// interface's defaults.
+/// Forwards only numVertices and evaluate, so checkShape, pathSegments, onTriangles, weightedReferences,
+/// referenceData and pathEnergy run the interface's defaults.
 class ForwardingEnergy final : public DeformationEnergy {
 public:
   explicit ForwardingEnergy(const DiscreteShells& inner) : inner_(inner) {}
   Eigen::Index numVertices() const override { return inner_.numVertices(); }
-  double value(const Eigen::VectorXd& r, const Eigen::VectorXd& d) const override { return inner_.value(r, d); }
-  Eigen::VectorXd gradientDeformed(const Eigen::VectorXd& r, const Eigen::VectorXd& d) const override { return inner_.gradientDeformed(r, d); }
-  Eigen::VectorXd gradientReference(const Eigen::VectorXd& r, const Eigen::VectorXd& d) const override { return inner_.gradientReference(r, d); }
-  Eigen::SparseMatrix<double> hessianDeformed(const Eigen::VectorXd& r, const Eigen::VectorXd& d) const override {
-    return inner_.hessianDeformed(r, d);
-  }
-  Eigen::SparseMatrix<double> hessianMixed(const Eigen::VectorXd& r, const Eigen::VectorXd& d) const override {
-    return inner_.hessianMixed(r, d);
-  }
-  Eigen::SparseMatrix<double> hessianReference(const Eigen::VectorXd& r, const Eigen::VectorXd& d) const override {
-    return inner_.hessianReference(r, d);
+  void evaluate(const Eigen::VectorXd& r, const Eigen::VectorXd& d, const EnergyOutputs& outputs) const override {
+    inner_.evaluate(r, d, outputs);
   }
 
 private:
