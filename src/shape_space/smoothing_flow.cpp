@@ -9,7 +9,6 @@
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/connected_components.hpp"
-#include "deformation_enrichment/shape_space/affine_subspace.hpp"
 #include "deformation_enrichment/shape_space/path_energy.hpp"
 #include "deformation_enrichment/shape_space/rigid_interpolation.hpp"
 #include "parallel_for.hpp"
@@ -18,10 +17,6 @@ namespace deformation_enrichment::shape_space {
 namespace {
 
 int wrap(int i, int count) { return ((i % count) + count) % count; }
-
-// The first step's warm start: ridge relative to the mean diagonal (its Hessian's rigid null space is the
-// objective's at its start).
-constexpr double kObjectiveWarmStartRidge = 1e-5;
 
 // Parallel over shapes only when each shape is big enough (parallel_for.hpp).
 bool parallelWorthIt(const std::vector<Eigen::VectorXd>& shapes) {
@@ -53,7 +48,7 @@ struct SmoothingFlow::AverageProblem {
 // The shapes of one trial step and how their averages ended.
 struct SmoothingFlow::Trial {
   std::vector<Eigen::VectorXd> shapes;
-  std::vector<Eigen::MatrixXd> models;  // reduced mode: each average's final quasi-Newton model
+  std::vector<Eigen::MatrixXd> models;  // each average's final quasi-Newton model (reduced mode)
   int iterations = 0;
   int unconverged = 0;
   double unconvergedGradientNorm = 0.0;
@@ -88,47 +83,37 @@ void SmoothingFlow::setCurrent(std::vector<Eigen::VectorXd> shapes) {
   }
   current_ = std::move(next);
   lastControlled_ = -1.0;
-  spaces_.clear();
-  inputData_.clear();
-  currentData_.clear();
-  fineBasis_.reset();
-  fineOrigins_.clear();
-  if (!options_.reduction.reduced) return;
-  // Preprocess: PCA of the sequence, + flow tangents for short sequences; each shape's affine space passes
-  // through the shape itself, so the current shape is exactly representable.
-  AffineSubspace pca = pcaSubspace(current_.shapes, options_.reduction.subspaceDimension);
-  if (int(current_.shapes.size()) < options_.flowDirectionShapes)
-    enrich(pca, flowTangents(energy_, current_.shapes, options_.closed));
-  enrich(pca, extraDirections_);
-  if (pca.dimension() == 0) throw InvalidInputError("flow: the shapes span no subspace (all identical?)");
-  fineBasis_ = std::make_shared<const Eigen::MatrixXd>(std::move(pca.basis));
-  fineOrigins_ = current_.shapes;
-  // The reduced spaces (and warm starts) live in the evaluation space: origin S x_i, basis S B.
-  const auto basis = space_.ghost() ? std::make_shared<const Eigen::MatrixXd>(space_.restrictRows(*fineBasis_)) : fineBasis_;
-  std::vector<Eigen::VectorXd> storage;
+  reduced_.reset();
+  if (options_.reduction.reduced) {
+    // Preprocess: the subspaces of the sequence, + flow tangents for short sequences.
+    std::vector<Eigen::VectorXd> directions;
+    if (int(current_.shapes.size()) < options_.flowDirectionShapes) directions = flowTangents(energy_, current_.shapes, options_.closed);
+    directions.insert(directions.end(), extraDirections_.begin(), extraDirections_.end());
+    reduced_.emplace(space_, current_.shapes, options_.reduction.subspaceDimension, directions);
+  }
+  std::vector<Eigen::VectorXd> storage, inputStorage;
   const std::vector<Eigen::VectorXd>& origins = space_.restrict(current_.shapes, storage);
-  std::vector<Eigen::VectorXd> inputStorage;
   const std::vector<Eigen::VectorXd>& input = space_.restrict(input_.shapes, inputStorage);
   inputData_ = options_.rho > 0.0 ? referenceData(input) : ReferenceDataList{};  // kept for the run
   currentData_ = referenceData(origins);  // also the next step's
-  spaces_.resize(current_.shapes.size());
+  if (reduced_) setWarmStarts(origins, input);
+}
+
+void SmoothingFlow::setWarmStarts(const std::vector<Eigen::VectorXd>& origins, const std::vector<Eigen::VectorXd>& input) {
   detail::parallelFor(int(current_.shapes.size()), parallelShapes(), [&](int i) {
     if (!isFree(i)) return;
     // The quasi-Newton model starts at the reduced Hessian of the next step's own objective at its start,
     // not at the rest Hessian of the shape's energy (which ignores the neighbours and their noise):
     // measured on a 140-frame bent sheet with 16 directions, 777 instead of 1191 iterations in the first step
     // at the same preprocess cost (on the 32 noisy MD2 clips with 64: 3449 instead of 3439, no gain).
-    ReducedSpace& space = spaces_[size_t(i)];
-    space.origin = origins[size_t(i)];
-    space.basis = basis;
     const AverageProblem problem = averageProblem(i, options_.tau, origins, input, currentData_);
     const AverageObjective objective(space_.energy(), problem.weights, problem.examples, options_.symmetricAverage, problem.data);
-    setWarmStart(space, objective.hessian(origins[size_t(i)]), kObjectiveWarmStartRidge);
+    reduced_->setWarmStart(i, objective.hessian(origins[size_t(i)]));
   });
 }
 
 void SmoothingFlow::addDirections(const std::vector<Eigen::VectorXd>& directions) {
-  if (!options_.reduction.reduced) return;
+  if (!reduced_) return;
   for (const Eigen::VectorXd& d : directions) {
     if (d.size() != current_.shapes.front().size() || !d.allFinite())
       throw InvalidInputError("flow: added subspace direction has the wrong size or is not finite");
@@ -140,7 +125,7 @@ void SmoothingFlow::addDirections(const std::vector<Eigen::VectorXd>& directions
 // The reduced eq. 10 averages aggregate their references (weightedReferences); what the energy computes of
 // each reference alone is computed once per shape here instead of once per average.
 SmoothingFlow::ReferenceDataList SmoothingFlow::referenceData(const std::vector<Eigen::VectorXd>& shapes) const {
-  if (!options_.reduction.reduced || options_.symmetricAverage) return {};
+  if (!reduced_ || options_.symmetricAverage) return {};
   ReferenceDataList data(shapes.size());
   detail::parallelFor(int(shapes.size()), parallelShapes(), [&](int i) { data[size_t(i)] = space_.energy().referenceData(shapes[size_t(i)]); });
   return data;
@@ -185,7 +170,7 @@ double SmoothingFlow::reducedPathGradientSquaredNorm() const {
   double sum = 0.0;
   for (size_t i = 0; i < gradients.size(); ++i) {
     if (!isFree(int(i))) continue;
-    sum += options_.reduction.reduced ? (fineBasis_->transpose() * gradients[i]).squaredNorm() : gradients[i].squaredNorm();
+    sum += reduced_ ? reduced_->squaredNormInBasis(gradients[i]) : gradients[i].squaredNorm();
   }
   return sum;
 }
@@ -208,7 +193,7 @@ double SmoothingFlow::reducedResidualSquaredNorm(const std::vector<Eigen::Vector
     const Eigen::VectorXd& next = shapes[size_t(wrap(i + 1, count))];
     Eigen::VectorXd r = energy.gradientDeformed(prev, x) + energy.gradientDeformed(next, x);
     if (options_.symmetricAverage) r += energy.gradientReference(x, prev) + energy.gradientReference(x, next);
-    terms[size_t(i)] = options_.reduction.reduced ? (spaces_[size_t(i)].basis->transpose() * r).squaredNorm() : r.squaredNorm();
+    terms[size_t(i)] = reduced_ ? reduced_->squaredNormInEvaluatedBasis(r) : r.squaredNorm();
   });
   double sum = 0.0;
   for (double term : terms) sum += term;
@@ -218,7 +203,7 @@ double SmoothingFlow::reducedResidualSquaredNorm(const std::vector<Eigen::Vector
 Eigen::Index SmoothingFlow::degreesOfFreedom() const {
   Eigen::Index dof = 0;
   for (size_t i = 0; i < current_.shapes.size(); ++i)
-    if (isFree(int(i))) dof += options_.reduction.reduced ? spaces_[i].basis->cols() : current_.shapes[i].size();
+    if (isFree(int(i))) dof += reduced_ ? reduced_->dimension() : current_.shapes[i].size();
   return dof;
 }
 
@@ -257,19 +242,14 @@ SmoothingFlow::AverageProblem SmoothingFlow::averageProblem(int i, double tau, c
 AverageResult SmoothingFlow::averageAt(int i, double tau, const std::vector<Eigen::VectorXd>& x,
                                        const std::vector<Eigen::VectorXd>& input, const ReferenceDataList& xData) const {
   const AverageProblem problem = averageProblem(i, tau, x, input, xData);
-  const DeformationEnergy& energy = space_.energy();
-  if (!options_.reduction.reduced) {
+  if (!reduced_) {
     AverageOptions solverOptions = options_.full;
     solverOptions.symmetric = options_.symmetricAverage;
-    return elasticAverage(energy, problem.weights, problem.examples, x[size_t(i)], solverOptions);
+    return elasticAverage(space_.energy(), problem.weights, problem.examples, x[size_t(i)], solverOptions);
   }
   ReducedAverageOptions solverOptions = options_.reducedSolver;
   solverOptions.symmetric = options_.symmetricAverage;
-  AverageResult result = reducedElasticAverage(energy, problem.weights, problem.examples, spaces_[size_t(i)], x[size_t(i)],
-                                               solverOptions, problem.data);
-  // Same reduced coordinates on the fine mesh (exact lift without a ghost mesh).
-  if (space_.ghost()) result.shape = fineOrigins_[size_t(i)] + *fineBasis_ * result.reducedCoordinates;
-  return result;
+  return reduced_->average(i, space_, problem.weights, problem.examples, problem.data, x[size_t(i)], solverOptions);
 }
 
 // x, input and xData: the current and input shapes in the evaluation space and x's reference data.
@@ -315,15 +295,7 @@ void SmoothingFlow::accept(Trial trial, double controlled) {
   detail::parallelFor(int(shapes.size()), parallelShapes(), [&](int i) {
     if (!isFree(i)) return;
     shapes[size_t(i)] = alignPieces(shapes[size_t(i)], input_.shapes[size_t(i)], pieces_);
-    if (!options_.reduction.reduced) return;
-    // The shape's affine space moves with it: origin at the moved shape, same basis ([Brandt16 §6]: the
-    // space of shape i passes through x_i).
-    fineOrigins_[size_t(i)] = shapes[size_t(i)];
-    spaces_[size_t(i)].origin = space_.restrict(shapes[size_t(i)]);
-    // The next step's average of this shape is a similar problem: its solver starts from the model this one
-    // ended with (measured on a 24-frame bent elephant: 70-119 instead of 148-166 iterations per step after
-    // the first, eq. 4 the same to 4 digits).
-    if (trial.models[size_t(i)].size() > 0) spaces_[size_t(i)].warmStart = std::move(trial.models[size_t(i)]);
+    if (reduced_) reduced_->moveTo(i, space_, shapes[size_t(i)], std::move(trial.models[size_t(i)]));
   });
   current_.shapes = std::move(shapes);
   lastControlled_ = controlled;

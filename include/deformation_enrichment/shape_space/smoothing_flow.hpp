@@ -14,6 +14,7 @@
 // of a shape's connected pieces, so after every step each piece is moved rigidly (Kabsch) onto its pose in
 // the input shape.
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -22,6 +23,7 @@
 #include "deformation_enrichment/shape_space/elastic_average.hpp"
 #include "deformation_enrichment/shape_space/evaluation_space.hpp"
 #include "deformation_enrichment/shape_space/reduced_average.hpp"
+#include "deformation_enrichment/shape_space/reduced_smoothing_space.hpp"
 #include "deformation_enrichment/shape_space/shape_sequence.hpp"
 
 namespace deformation_enrichment::shape_space {
@@ -106,7 +108,7 @@ public:
   Eigen::Index ghostVertices() const { return space_.ghostVertices(); }
   /// Reduced mode: the shared subspace's dimension (at most options' subspaceDimension, fewer if the shapes
   /// span fewer directions); 0 in full mode.
-  Eigen::Index subspaceDimension() const { return fineBasis_ ? fineBasis_->cols() : 0; }
+  Eigen::Index subspaceDimension() const { return reduced_ ? reduced_->dimension() : 0; }
   /// Squared norm of the flow's own fixed-point residual, projected like reducedPathGradientSquaredNorm
   /// (on the ghost mesh if one is used):
   /// eq. 3 for the symmetric average (eq. 1); d2 E(x_{i-1}, x_i) + d2 E(x_{i+1}, x_i) for eq. 10, whose
@@ -128,6 +130,8 @@ private:
                   const ReferenceDataList& xData) const;
   /// Per shape (evaluation space) its reference data for the reduced eq. 10 averages; empty otherwise.
   ReferenceDataList referenceData(const std::vector<Eigen::VectorXd>& shapes) const;
+  /// Reduced mode: each free shape's first quasi-Newton model (origins and input in the evaluation space).
+  void setWarmStarts(const std::vector<Eigen::VectorXd>& origins, const std::vector<Eigen::VectorXd>& input);
   /// Makes the trial's shapes (with eq. 4 `controlled`) the current ones, each piece moved rigidly onto its
   /// input pose, and its averages' final models the next step's warm starts.
   void accept(Trial trial, double controlled);
@@ -148,13 +152,11 @@ private:
   EvaluationSpace space_;
   std::vector<char> restored_;
   std::vector<std::vector<int>> pieces_;  ///< connected components of the mesh (each keeps its input pose)
-  std::vector<ReducedSpace> spaces_;  ///< per shape (reduced mode), in the evaluation space
-  ReferenceDataList inputData_;       ///< reduced mode with a restoring force: the inputs' reference data
-  ReferenceDataList currentData_;     ///< reduced mode: current_'s reference data until the next step uses it
-  std::shared_ptr<const Eigen::MatrixXd> fineBasis_;  ///< reduced mode: the shared basis on the fine mesh
-  std::vector<Eigen::VectorXd> fineOrigins_;          ///< reduced mode: shape i = fineOrigins_[i] + B q
+  std::optional<ReducedSmoothingSpace> reduced_;  ///< reduced mode: the shapes' subspaces
+  std::vector<Eigen::VectorXd> extraDirections_;  ///< reduced mode: added to the subspaces, kept across setCurrent
+  ReferenceDataList inputData_;    ///< the inputs' reference data if a restoring force uses them (referenceData)
+  ReferenceDataList currentData_;  ///< current_'s reference data (referenceData) until the next step uses it
   double lastControlled_ = -1.0;  ///< controlledPathEnergy() of current_ after a step (< 0: unknown)
-  std::vector<Eigen::VectorXd> extraDirections_;
 };
 
 }  // namespace deformation_enrichment::shape_space
