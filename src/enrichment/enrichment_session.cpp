@@ -1,7 +1,6 @@
 // The frame path of EnrichmentSession: a state in, its enriched positions out (docs/design.md §6). The
 // configuration side (rest surfaces, example sets, knobs, the rebuild worker) is session_configuration.cpp.
 #include <cmath>
-#include <cstring>
 
 #include "deformation_enrichment/enrichment/enrichment_session.hpp"
 #include "deformation_enrichment/error.hpp"
@@ -9,32 +8,11 @@
 #include "session_built.hpp"
 
 namespace deformation_enrichment::enrichment {
-namespace {
-
-bool sameContact(const Contact& a, const Contact& b) {
-  return a.point == b.point && a.restState == b.restState && a.normal == b.normal && a.toolId == b.toolId &&
-         a.previousFrameAxis == b.previousFrameAxis && a.releasedMagnitude == b.releasedMagnitude;
-}
-
-}  // namespace
-
 std::shared_ptr<const RestSurface> EnrichmentSession::restFor(Eigen::Index vertices) const {
   std::lock_guard<std::mutex> lock(mutex_);
   if (active_ && active_->geometry.surface.numVertices() == vertices) return active_;
   if (pending_ && pending_->geometry.surface.numVertices() == vertices) return pending_;
   return nullptr;
-}
-
-bool EnrichmentSession::unchanged(const std::vector<Contact>& contacts) const {
-  if (!memoValid_ || memoConfig_ != configVersion_ || memoRest_ != active_->version) return false;
-  if (temporalFilter_.timeConstant() > 0.0) return false;  // its output moves on every state
-  return contacts.size() == memoContacts_.size() && std::equal(contacts.begin(), contacts.end(), memoContacts_.begin(), sameContact);
-}
-
-bool EnrichmentSession::sameAsMemo(const Eigen::Matrix3Xf& positions) const {
-  // One pass over the buffer (~0.1 ms per 100k points), far below describing, blending and mapping.
-  return positions.cols() == memoInput_.cols() &&
-         std::memcmp(positions.data(), memoInput_.data(), sizeof(float) * static_cast<std::size_t>(positions.size())) == 0;
 }
 
 void EnrichmentSession::enrichContacts(const Eigen::Matrix3Xf& positions, const std::vector<Contact>& contacts, double dt) {
@@ -80,9 +58,8 @@ const FrameResult& EnrichmentSession::enrich(const Eigen::Matrix3Xf& positions, 
   }
   mesh::validateMeshState(positions, positions.cols());  // before the stream's memory moves on
   const bool enriching = onActive && enricher_ && enricher_->enricher;
-  const double dt = hasLastStamp_ ? stampSeconds - lastStamp_ : 0.0;
+  const double dt = lastStamp_ ? stampSeconds - *lastStamp_ : 0.0;
   lastStamp_ = stampSeconds;
-  hasLastStamp_ = true;
 
   // Tools in contact, then the sites released tools left deformed; a fading filter needs states too.
   std::vector<Contact> contacts;
@@ -103,16 +80,17 @@ const FrameResult& EnrichmentSession::enrich(const Eigen::Matrix3Xf& positions, 
     if (!touching.empty())
       result_.note = onPending ? "the enricher of the new rest surface is being built" : "no example set loaded";
     temporalFilter_.reset();  // nothing enriched: a later contact starts the filter afresh
-    memoValid_ = false;
+    memo_.invalidate();
     return result_;
   }
-  if (unchanged(contacts) && sameAsMemo(positions)) {
+  // A fading temporal filter moves the output on every state: nothing to reuse then.
+  if (temporalFilter_.timeConstant() <= 0.0 && memo_.matches(positions, contacts, configVersion_, active_->version)) {
     result_.kind = FrameResult::Kind::Reused;
     ++stats_.statesReused;
     return result_;
   }
   result_ = FrameResult();
-  memoValid_ = false;
+  memo_.invalidate();
   try {
     enrichContacts(positions, contacts, dt);
   } catch (const Error& e) {
@@ -120,11 +98,7 @@ const FrameResult& EnrichmentSession::enrich(const Eigen::Matrix3Xf& positions, 
     result_.error = e.what();
     return result_;
   }
-  memoValid_ = true;
-  memoInput_ = positions;
-  memoContacts_ = std::move(contacts);
-  memoConfig_ = configVersion_;
-  memoRest_ = active_->version;
+  memo_.remember(positions, std::move(contacts), configVersion_, active_->version);
   return result_;
 }
 

@@ -177,7 +177,7 @@ void EnrichmentSession::resetStream() {
   // A new topology invalidates states of the old one, and the tools' memory of it.
   continuity_.reset();
   temporalFilter_.reset();
-  memoValid_ = false;
+  memo_.invalidate();
 }
 
 void EnrichmentSession::installConfiguration(std::shared_ptr<const examples::ExampleSet> set, const KnobOptions& knobs) {

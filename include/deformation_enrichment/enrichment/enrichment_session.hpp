@@ -24,6 +24,7 @@
 #include "deformation_enrichment/descriptors/site_density.hpp"
 #include "deformation_enrichment/enrichment/contact_continuity.hpp"
 #include "deformation_enrichment/enrichment/contact_enricher.hpp"
+#include "deformation_enrichment/enrichment/input_memo.hpp"
 #include "deformation_enrichment/enrichment/temporal_filter.hpp"
 #include "deformation_enrichment/examples/example.hpp"
 #include "deformation_enrichment/mesh/tet_mesh.hpp"
@@ -168,10 +169,6 @@ private:
   /// all three; throws InvalidInputError, leaving everything as it was.
   void installConfiguration(std::shared_ptr<const examples::ExampleSet> set, const KnobOptions& knobs);
   void resetStream();
-  /// Whether the contacts, configuration and rest surface are those the memo's state was enriched with.
-  bool unchanged(const std::vector<Contact>& contacts) const;
-  /// Whether `positions` equal the memo's state bit for bit.
-  bool sameAsMemo(const Eigen::Matrix3Xf& positions) const;
   void enrichContacts(const Eigen::Matrix3Xf& positions, const std::vector<Contact>& contacts, double dt);
   void log(SessionLogLevel level, const std::string& text) const;
 
@@ -195,14 +192,8 @@ private:
   EnrichmentResult scratch_;
   FrameResult result_;
   Eigen::Matrix3Xf enriched_;
-  double lastStamp_ = 0.0;
-  bool hasLastStamp_ = false;
-  // Unchanged-input memo: what the last state was computed from, valid only while that state was enriched
-  // (then result_ and enriched_ still hold its outcome).
-  bool memoValid_ = false;
-  Eigen::Matrix3Xf memoInput_;
-  std::vector<Contact> memoContacts_;
-  std::uint64_t memoConfig_ = 0, memoRest_ = 0;
+  std::optional<double> lastStamp_;
+  InputMemo memo_;  // valid only while its state was the last enriched (result_ and enriched_ hold its outcome)
 
   std::thread worker_;  // last: starts after every member above exists
 };
