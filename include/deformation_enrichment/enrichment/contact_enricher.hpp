@@ -1,19 +1,15 @@
 #pragma once
 // The run-time pipeline of [Seiler14 §5-§6] on one rest surface, shared by the ROS node, acquisition and
-// evaluation so that example descriptors and run-time descriptors are computed by the same code:
-//   per contact p: site descriptor rho (density moments of the site density: by default an interior sampling
-//   of the closed rest surface, or the samples the caller gives (descriptors/site_density.hpp: a volume or a
-//   shell for an open surface); cached per rest vertex and interpolated over the contact's triangle), deformation descriptor mu (MLS "surface samples" mode over
-//   the surface vertices near p, rest vs current, completed by the rest/current normals), stamping frame
-//   B (normal, rho_1, then the deformation direction), then ExampleBlender (eq. 15 -> RBF -> eq. 16) and
-//   StampMapper (eq. 1, multi-contact rim rule).
+// evaluation so that example descriptors and run-time descriptors are computed by the same code: per contact
+// its descriptors (ContactDescriber: rho, mu, frame B; the site density by default an interior sampling of
+// the closed rest surface, or the samples the caller gives, descriptors/site_density.hpp), then
+// ExampleBlender (eq. 15 -> RBF -> eq. 16) and StampMapper (eq. 1, multi-contact rim rule).
 #include <Eigen/Core>
-#include <array>
 #include <memory>
 #include <optional>
 #include <vector>
 
-#include "deformation_enrichment/descriptors/descriptor_evaluator.hpp"
+#include "deformation_enrichment/enrichment/contact_describer.hpp"
 #include "deformation_enrichment/enrichment/example_blender.hpp"
 #include "deformation_enrichment/enrichment/stamp_blending.hpp"
 #include "deformation_enrichment/mesh/triangle_mesh.hpp"
@@ -53,34 +49,6 @@ struct ContactEnricherOptions {
   DetailGain gain;  ///< the run-time knobs (times the set's material similarity in a session)
 };
 
-/// One tool contact. `point` is a rest-state position when `restState`, otherwise a current-state position,
-/// mapped to the rest state through its nearest point on the current surface (barycentric on the triangle
-/// there, so a sliding contact moves continuously instead of snapping from vertex to vertex).
-struct Contact {
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();
-  bool restState = true;
-  std::optional<Eigen::Vector3d> normal;  ///< outward normal in rest axes; default: the interpolated rest normal
-  int toolId = 0;
-  /// b_x of this contact's previous frame: the stamping frame's last resort, so it does not jump (a stream).
-  std::optional<Eigen::Vector3d> previousFrameAxis;
-  /// > 0: a released site (the tool lifted off) whose detail fades with |mu| / releasedMagnitude, the
-  /// deformation then. Magnitude-aware stamps fade by themselves and ignore it.
-  double releasedMagnitude = 0.0;
-};
-
-/// Descriptors of one contact, exactly what an example stores (rho, mu in frame B) plus what mapping needs.
-struct ContactDescription {
-  int vertex = -1;                                        ///< the rest vertex of the contact's triangle nearest to it
-  Eigen::Vector3i corners = Eigen::Vector3i::Constant(-1);  ///< the triangle the contact lies on
-  Eigen::Vector3d barycentric = Eigen::Vector3d::Zero();  ///< of the contact on `corners` (>= 0, sum 1)
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();            ///< rest-state contact position
-  Eigen::Matrix3d B = Eigen::Matrix3d::Identity();        ///< stamping frame (rest axes)
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();        ///< polar rotation of the MLS F (rest -> current)
-  descriptors::FrameRule frameRule = descriptors::FrameRule::Fixed;
-  hermite::MomentList rho;                                ///< in frame B
-  hermite::MomentList mu;                                 ///< in frame B
-};
-
 struct ContactOutcome {
   int toolId = 0;
   ContactDescription description;
@@ -113,8 +81,8 @@ public:
   ContactEnricher& operator=(ContactEnricher&&) noexcept;
 
   const ContactEnricherOptions& options() const { return options_; }
-  const mesh::TriangleMesh& restSurface() const { return rest_; }
-  Eigen::Index size() const { return rest_.vertices.cols(); }
+  const mesh::TriangleMesh& restSurface() const { return describer_.restSurface(); }
+  Eigen::Index size() const { return restSurface().vertices.cols(); }
 
   /// Builds the ExampleBlender for `set` (widths fitted at load). The stamps' radius must equal
   /// options().stampRadius. On an exception the previous examples stay active.
@@ -159,38 +127,13 @@ private:
   /// Both enrich() overloads (Positions: Matrix3Xd or Matrix3Xf).
   template <typename Positions>
   void enrichState(const Positions& current, const std::vector<Contact>& contacts, EnrichmentResult& out, StateCheck check);
-  /// describe() for a state that passed checkState().
-  template <typename Positions>
-  ContactDescription describeValidState(const Positions& current, const Contact& contact) const;
-  /// The vertex of `current` nearest to `point` (the first of equals).
-  template <typename Positions>
-  int nearestVertex(const Positions& current, const Eigen::Vector3d& point) const;
-  /// Places the contact on the surface `positions` (rest or current): the nearest point among the triangles
-  /// around `vertex` (its nearest vertex), written to d.corners, d.barycentric and d.vertex.
-  template <typename Positions>
-  void locate(const Positions& positions, int vertex, const Eigen::Vector3d& point, ContactDescription& d) const;
-  /// rho at a rest vertex (world axes), computed once per vertex.
-  const hermite::MomentList& siteMoments(int vertex) const;
-  template <typename Positions>
-  Eigen::Vector3d currentNormal(const Positions& current, int vertex) const;
   /// Blends one described contact's stamp (eq. 15 -> RBF -> eq. 16, bounded and scaled) into `stamp`.
   void blendContact(const Contact& contact, ContactOutcome& outcome, ContactStamp& stamp);
-  /// The deformation descriptor's window at rest point p (cached, see recentWindows_).
-  const descriptors::Window& surfaceWindow(const Eigen::Vector3d& p) const;
   template <typename Positions>
   void checkState(const Positions& current, StateCheck check = StateCheck::Full) const;
 
   ContactEnricherOptions options_;
-  mesh::TriangleMesh rest_;
-  Eigen::Matrix3Xd restNormals_;
-  std::vector<std::vector<int>> vertexTriangles_;
-  std::unique_ptr<descriptors::DescriptorEvaluator> siteEvaluator_;  // interior sampling (rho, normals)
-  std::unique_ptr<descriptors::PointSampling> surfaceSampling_;      // surface vertices, area weights (mu)
-  mutable std::vector<std::optional<hermite::MomentList>> siteCache_;  // rho (world axes) per rest vertex
-  mutable std::array<std::optional<descriptors::Window>, 4> recentWindows_;  // last windows (a few tools)
-  mutable std::size_t nextWindow_ = 0;
-  mutable Eigen::ArrayXf floatDistances_;    // nearestVertex's scratch
-  mutable Eigen::ArrayXd doubleDistances_;
+  ContactDescriber describer_;  // owns the rest surface
   std::shared_ptr<ExampleBlender> blender_;
   KernelWidths loadedWidths_;     // of the active set, as fitted at load
   std::vector<cv::Mat> stamps_;   // the active set's stamps (magnitude-aware blending)
