@@ -78,63 +78,34 @@ double mean(const std::vector<long>& v, std::size_t from, std::size_t to) {
   return to > from ? sum / static_cast<double>(to - from) : 0.0;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  ros::init(argc, argv, "soak_driver");
-  ros::NodeHandle nh, pnh("~");
-  const double seconds = pnh.param("seconds", 60.0), stateRate = pnh.param("state_rate", 60.0), poseRate = pnh.param("pose_rate", 1000.0);
-  const int cells = pnh.param("cells", 223);
-  const std::string processName = pnh.param<std::string>("process_name", "enrichment_node");
-  const de::mesh::TriangleMesh surface =
-      de::mesh::extractSurface(de::mesh::gridTetMesh(Eigen::Vector3d(-0.05, -0.05, 0), Eigen::Vector3d(0.05, 0.05, kTop),
-                                                     Eigen::Vector3i(cells, cells, 1)))
-          .surface;
-  const Eigen::Matrix3Xf rest = surface.vertices.cast<float>();
-  std_msgs::Header header;
-  header.frame_id = "slab";
-  ros::Publisher restPub = nh.advertise<pcl_msgs::PolygonMesh>("rest_mesh", 1, true);
-  ros::Publisher statePub = nh.advertise<sensor_msgs::PointCloud2>("mesh_state", 10);
-  ros::Publisher posePubA = nh.advertise<geometry_msgs::PoseStamped>("PSM1/measured_cp", 100);
-  ros::Publisher posePubB = nh.advertise<geometry_msgs::PoseStamped>("PSM2/measured_cp", 100);
-  long received = 0, markers = 0;
-  std::vector<double> latencyMs;
+// What the driver observes of the node's outputs, from the start of the measurement on.
+struct Observed {
   ros::Time measureFrom;  // states stamped from then on are counted (zero: not yet)
-  ros::Subscriber enriched = nh.subscribe<sensor_msgs::PointCloud2>("enriched_mesh_state", 100, [&](const sensor_msgs::PointCloud2ConstPtr& m) {
-    if (measureFrom.isZero() || m->header.stamp < measureFrom) return;
-    ++received;
-    latencyMs.push_back(1e3 * (ros::Time::now() - m->header.stamp).toSec());
-  });
+  long received = 0, markers = 0;
   long withDetail = 0, withTwoTools = 0;  // states whose status shows stamps placed / both tools in contact
-  ros::Subscriber statusSub = nh.subscribe<deformation_enrichment::EnrichmentStatus>("enrichment/status", 100, [&](const auto& s) {
-    if (measureFrom.isZero() || s->header.stamp < measureFrom) return;
-    withDetail += s->vertices_touched > 0;
-    withTwoTools += s->tool_ids.size() == 2;
-  });
-  ros::Subscriber markerSub = nh.subscribe<visualization_msgs::MarkerArray>("enrichment/markers", 1, [&](const auto&) { ++markers; });
-  header.stamp = ros::Time::now();
-  restPub.publish(de::ros_layer::messageFromTriangleMesh(surface, header));
+  std::vector<double> latencyMs;
+};
 
-  // Until the node enriches the 100k-vertex surface (its rest surface is built in the background).
-  sensor_msgs::PointCloud2 cloud = de::ros_layer::cloudFromPositions(rest, header);
+// Publishes the rest state until the node enriches the 100k-vertex surface (its rest surface is built in the
+// background); false if it does not answer within 120 s.
+bool waitForNode(ros::NodeHandle& nh, ros::Publisher& statePub, sensor_msgs::PointCloud2& cloud) {
   long warm = 0;
   ros::Subscriber warmSub = nh.subscribe<sensor_msgs::PointCloud2>("enriched_mesh_state", 1, [&](const auto&) { ++warm; });
   for (ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(120.0); ros::ok() && warm < 3; ros::WallDuration(0.1).sleep()) {
-    if (ros::WallTime::now() > deadline) {
-      std::fprintf(stderr, "soak: the enrichment node did not answer within 120 s\n");
-      return 1;
-    }
+    if (ros::WallTime::now() > deadline) return false;
     cloud.header.stamp = ros::Time::now();
     statePub.publish(cloud);
     ros::spinOnce();
   }
-  warmSub.shutdown();
+  return true;
+}
 
-  const int pid = findProcess(processName);
-  if (pid == 0) std::fprintf(stderr, "soak: no process %s to watch the memory of\n", processName.c_str());
-  measureFrom = ros::Time::now();
+// States at stateRate with tool A's dent (and tool B's while present), poses at poseRate, the node's resident
+// memory once a second, for `seconds`; returns the states sent.
+long drive(double seconds, double stateRate, double poseRate, const Eigen::Matrix3Xf& rest, sensor_msgs::PointCloud2& cloud,
+           ros::Publisher& statePub, ros::Publisher& posePubA, ros::Publisher& posePubB, int pid, std::vector<long>& memory) {
+  std_msgs::Header header = cloud.header;
   long sent = 0;
-  std::vector<long> memory;
   Eigen::Matrix3Xf positions = rest;
   const ros::WallTime start = ros::WallTime::now();
   double nextState = 0.0, nextPose = 0.0, nextSample = 0.0;
@@ -162,22 +133,75 @@ int main(int argc, char** argv) {
     ros::spinOnce();
     ros::WallDuration(2e-4).sleep();
   }
-  // The last states on their way back.
-  for (ros::WallTime end = ros::WallTime::now() + ros::WallDuration(3.0); ros::ok() && received < sent && ros::WallTime::now() < end;) {
-    ros::spinOnce();
-    ros::WallDuration(0.01).sleep();
-  }
+  return sent;
+}
+
+// Prints the soak's JSON line; true if every state came back, the memory stayed flat (last minute within 2 %
+// of the second, or the last quarter of a short run within 2 % of its second quarter) and detail was placed.
+bool report(double seconds, Eigen::Index vertices, long sent, const Observed& o, const std::vector<long>& memory) {
   const std::size_t n = memory.size();
   const bool minutes = seconds >= 180.0;
   const double early = minutes ? mean(memory, 60, 120) : mean(memory, n / 4, n / 2);
   const double late = minutes ? mean(memory, n - 60, n) : mean(memory, 3 * n / 4, n);
   const double growth = early > 0.0 ? late / early - 1.0 : 0.0;
-  const bool ok = received == sent && early > 0.0 && std::abs(growth) <= 0.02 && withDetail >= sent * 9 / 10 && withTwoTools > 0;
+  const bool ok = o.received == sent && early > 0.0 && std::abs(growth) <= 0.02 && o.withDetail >= sent * 9 / 10 && o.withTwoTools > 0;
   std::printf("soak: {\"seconds\": %.0f, \"vertices\": %ld, \"states_sent\": %ld, \"states_enriched\": %ld, \"lost\": %ld, "
               "\"with_detail\": %ld, \"with_two_tools\": %ld, \"latency_ms\": {\"p50\": %.2f, \"p99\": %.2f, \"max\": %.2f}, "
               "\"marker_arrays\": %ld, "
               "\"resident_kb\": {\"early\": %.0f, \"late\": %.0f, \"growth\": %.4f}, \"ok\": %s}\n",
-              seconds, static_cast<long>(rest.cols()), sent, received, sent - received, withDetail, withTwoTools, percentile(latencyMs, 0.5),
-              percentile(latencyMs, 0.99), percentile(latencyMs, 1.0), markers, early, late, growth, ok ? "true" : "false");
-  return ok ? 0 : 1;
+              seconds, static_cast<long>(vertices), sent, o.received, sent - o.received, o.withDetail, o.withTwoTools,
+              percentile(o.latencyMs, 0.5), percentile(o.latencyMs, 0.99), percentile(o.latencyMs, 1.0), o.markers, early, late,
+              growth, ok ? "true" : "false");
+  return ok;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "soak_driver");
+  ros::NodeHandle nh, pnh("~");
+  const double seconds = pnh.param("seconds", 60.0), stateRate = pnh.param("state_rate", 60.0), poseRate = pnh.param("pose_rate", 1000.0);
+  const int cells = pnh.param("cells", 223);
+  const std::string processName = pnh.param<std::string>("process_name", "enrichment_node");
+  const de::mesh::TriangleMesh surface =
+      de::mesh::extractSurface(de::mesh::gridTetMesh(Eigen::Vector3d(-0.05, -0.05, 0), Eigen::Vector3d(0.05, 0.05, kTop),
+                                                     Eigen::Vector3i(cells, cells, 1)))
+          .surface;
+  const Eigen::Matrix3Xf rest = surface.vertices.cast<float>();
+  std_msgs::Header header;
+  header.frame_id = "slab";
+  ros::Publisher restPub = nh.advertise<pcl_msgs::PolygonMesh>("rest_mesh", 1, true);
+  ros::Publisher statePub = nh.advertise<sensor_msgs::PointCloud2>("mesh_state", 10);
+  ros::Publisher posePubA = nh.advertise<geometry_msgs::PoseStamped>("PSM1/measured_cp", 100);
+  ros::Publisher posePubB = nh.advertise<geometry_msgs::PoseStamped>("PSM2/measured_cp", 100);
+  Observed o;
+  ros::Subscriber enriched = nh.subscribe<sensor_msgs::PointCloud2>("enriched_mesh_state", 100, [&](const sensor_msgs::PointCloud2ConstPtr& m) {
+    if (o.measureFrom.isZero() || m->header.stamp < o.measureFrom) return;
+    ++o.received;
+    o.latencyMs.push_back(1e3 * (ros::Time::now() - m->header.stamp).toSec());
+  });
+  ros::Subscriber statusSub = nh.subscribe<deformation_enrichment::EnrichmentStatus>("enrichment/status", 100, [&](const auto& s) {
+    if (o.measureFrom.isZero() || s->header.stamp < o.measureFrom) return;
+    o.withDetail += s->vertices_touched > 0;
+    o.withTwoTools += s->tool_ids.size() == 2;
+  });
+  ros::Subscriber markerSub = nh.subscribe<visualization_msgs::MarkerArray>("enrichment/markers", 1, [&](const auto&) { ++o.markers; });
+  header.stamp = ros::Time::now();
+  restPub.publish(de::ros_layer::messageFromTriangleMesh(surface, header));
+  sensor_msgs::PointCloud2 cloud = de::ros_layer::cloudFromPositions(rest, header);
+  if (!waitForNode(nh, statePub, cloud)) {
+    std::fprintf(stderr, "soak: the enrichment node did not answer within 120 s\n");
+    return 1;
+  }
+  const int pid = findProcess(processName);
+  if (pid == 0) std::fprintf(stderr, "soak: no process %s to watch the memory of\n", processName.c_str());
+  o.measureFrom = ros::Time::now();
+  std::vector<long> memory;
+  const long sent = drive(seconds, stateRate, poseRate, rest, cloud, statePub, posePubA, posePubB, pid, memory);
+  // The last states on their way back.
+  for (ros::WallTime end = ros::WallTime::now() + ros::WallDuration(3.0); ros::ok() && o.received < sent && ros::WallTime::now() < end;) {
+    ros::spinOnce();
+    ros::WallDuration(0.01).sleep();
+  }
+  return report(seconds, rest.cols(), sent, o, memory) ? 0 : 1;
 }

@@ -136,6 +136,74 @@ protected:
     de::examples::saveExampleSet(set, directory);
   }
 
+  /// Plays every frame: untouched vertices keep their bits; with a contact, detail appears under it; before
+  /// the press the output is the input, and after the lift-off only the released site (the last contact's
+  /// rest point) may carry detail. `deepestOutput`: the output of frame `at`.
+  void replayWholeRecording(std::size_t at, Eigen::Matrix3Xd& deepestOutput) {
+    int withDetail = 0, withoutContact = 0;
+    std::vector<Eigen::Vector3d> released;
+    for (std::size_t i = 0; i < frames_.size(); ++i) {
+      const Frame& f = frames_[i];
+      const Eigen::Matrix3Xd out = play(f);
+      ASSERT_EQ(out.cols(), f.positions.cols()) << "frame " << i << ": no output";
+      const Eigen::Matrix3Xf in = f.positions.cast<float>(), got = out.cast<float>();
+      std::vector<Eigen::Vector3d> centres;
+      for (const auto& c : f.contacts.contacts) centres.push_back(restContact(f, c));
+      if (!centres.empty()) released = centres;
+      const bool touching = !centres.empty();
+      if (!touching) centres = released;
+      double under = 0.0;
+      for (Eigen::Index v = 0; v < in.cols(); ++v) {
+        bool inside = false;
+        for (const auto& p : centres) inside = inside || (rest_.vertices.col(v) - p).norm() < kRadius;
+        if (!inside) {
+          ASSERT_EQ(got.col(v), in.col(v)) << "frame " << i << ": vertex " << v << " outside every stamp changed";
+        }
+        for (const auto& p : centres)
+          if ((rest_.vertices.col(v) - p).norm() < 0.003) under = std::min(under, double(got(2, v) - in(2, v)));
+      }
+      if (!touching) {
+        ++withoutContact;
+        if (released.empty()) {
+          EXPECT_EQ(got, in) << "frame " << i << " is before any contact but was changed";
+        }
+      } else if (under < -0.3 * kDetail) {
+        ++withDetail;
+      }
+      if (i == at) {
+        deepestOutput = out;
+        EXPECT_LT(under, -0.5 * kDetail) << "the example's own frame must get most of its 1 mm";
+      }
+    }
+    RecordProperty("frames_with_detail", withDetail);
+    RecordProperty("frames_without_contact", withoutContact);
+    EXPECT_GE(withoutContact, 2) << "the recording should include the lift-off";
+    EXPECT_GE(withDetail, 5);
+  }
+
+  /// Two tools 8 mm apart at frame `at`: overlapping stamps neither add up nor make the surface rougher than
+  /// one stamp (`deepestOutput`: the one-tool output there).
+  void twoToolsAsSmoothAsOne(std::size_t at, const Eigen::Matrix3Xd& deepestOutput) {
+    const auto edgeJump = [&](const Eigen::Matrix3Xd& e) {
+      double jump = 0.0;
+      for (Eigen::Index t = 0; t < rest_.triangles.cols(); ++t)
+        for (int k = 0; k < 3; ++k)
+          jump = std::max(jump, (e.col(rest_.triangles(k, t)) - e.col(rest_.triangles((k + 1) % 3, t))).norm());
+      return jump;
+    };
+    const Eigen::Matrix3Xd one = deepestOutput - frames_[at].positions;
+    Frame twoTools = frames_[at];
+    de::ToolContact second = twoTools.contacts.contacts.at(0);
+    second.tool_id = "second_tool";
+    second.position.x += 0.008;
+    twoTools.contacts.contacts.push_back(second);
+    const Eigen::Matrix3Xd two = play(twoTools) - frames_[at].positions;
+    ASSERT_EQ(two.cols(), one.cols());
+    EXPECT_LE(two.colwise().norm().maxCoeff(), 1.05 * one.colwise().norm().maxCoeff()) << "stamps added up";
+    EXPECT_LE(edgeJump(two), 1.5 * edgeJump(one) + 1e-6) << "overlapping stamps made the surface rough";
+    EXPECT_GT((two - one).cwiseAbs().maxCoeff(), 0.0) << "the second tool had no effect";
+  }
+
   bool load(const std::string& path, std::string* message = nullptr) {
     de::LoadExampleSet call;
     call.request.path = path;
@@ -163,49 +231,8 @@ TEST_F(RecordedSequenceTest, EnrichesAtTheContactOnlyKeepsItsSetAndContinuity) {
   ASSERT_TRUE(waitFor([&] { return play(frames_.front(), 0.3).cols() > 0; }, 20.0)) << "rest mesh never became active";
   ASSERT_TRUE(load(good));
 
-  // The whole recording: untouched vertices keep their bits; with a contact, detail appears under it;
-  // before the press the output is the input, and after the lift-off only the released site (the last
-  // contact's rest point) may carry detail.
-  int withDetail = 0, withoutContact = 0;
   Eigen::Matrix3Xd deepestOutput;
-  std::vector<Eigen::Vector3d> released;
-  for (std::size_t i = 0; i < frames_.size(); ++i) {
-    const Frame& f = frames_[i];
-    const Eigen::Matrix3Xd out = play(f);
-    ASSERT_EQ(out.cols(), f.positions.cols()) << "frame " << i << ": no output";
-    const Eigen::Matrix3Xf in = f.positions.cast<float>(), got = out.cast<float>();
-    std::vector<Eigen::Vector3d> centres;
-    for (const auto& c : f.contacts.contacts) centres.push_back(restContact(f, c));
-    if (!centres.empty()) released = centres;
-    const bool touching = !centres.empty();
-    if (!touching) centres = released;
-    double under = 0.0;
-    for (Eigen::Index v = 0; v < in.cols(); ++v) {
-      bool inside = false;
-      for (const auto& p : centres) inside = inside || (rest_.vertices.col(v) - p).norm() < kRadius;
-      if (!inside) {
-        ASSERT_EQ(got.col(v), in.col(v)) << "frame " << i << ": vertex " << v << " outside every stamp changed";
-      }
-      for (const auto& p : centres)
-        if ((rest_.vertices.col(v) - p).norm() < 0.003) under = std::min(under, double(got(2, v) - in(2, v)));
-    }
-    if (!touching) {
-      ++withoutContact;
-      if (released.empty()) {
-        EXPECT_EQ(got, in) << "frame " << i << " is before any contact but was changed";
-      }
-    } else if (under < -0.3 * kDetail) {
-      ++withDetail;
-    }
-    if (i == at) {
-      deepestOutput = out;
-      EXPECT_LT(under, -0.5 * kDetail) << "the example's own frame must get most of its 1 mm";
-    }
-  }
-  RecordProperty("frames_with_detail", withDetail);
-  RecordProperty("frames_without_contact", withoutContact);
-  EXPECT_GE(withoutContact, 2) << "the recording should include the lift-off";
-  EXPECT_GE(withDetail, 5);
+  ASSERT_NO_FATAL_FAILURE(replayWholeRecording(at, deepestOutput));
 
   // A corrupt set is rejected and the old one stays active: the same frame gives the same output.
   std::filesystem::remove_all(bad);
@@ -228,25 +255,7 @@ TEST_F(RecordedSequenceTest, EnrichesAtTheContactOnlyKeepsItsSetAndContinuity) {
   ASSERT_EQ(replayed.cols(), deepestOutput.cols());
   EXPECT_LT((replayed - deepestOutput).cwiseAbs().maxCoeff(), 1e-6) << "the old set must stay active after a corrupt one";
 
-  // Two tools 8 mm apart: overlapping stamps neither add up nor make the surface rougher than one stamp.
-  const auto edgeJump = [&](const Eigen::Matrix3Xd& e) {
-    double jump = 0.0;
-    for (Eigen::Index t = 0; t < rest_.triangles.cols(); ++t)
-      for (int k = 0; k < 3; ++k)
-        jump = std::max(jump, (e.col(rest_.triangles(k, t)) - e.col(rest_.triangles((k + 1) % 3, t))).norm());
-    return jump;
-  };
-  const Eigen::Matrix3Xd one = deepestOutput - frames_[at].positions;
-  Frame twoTools = frames_[at];
-  de::ToolContact second = twoTools.contacts.contacts.at(0);
-  second.tool_id = "second_tool";
-  second.position.x += 0.008;
-  twoTools.contacts.contacts.push_back(second);
-  const Eigen::Matrix3Xd two = play(twoTools) - frames_[at].positions;
-  ASSERT_EQ(two.cols(), one.cols());
-  EXPECT_LE(two.colwise().norm().maxCoeff(), 1.05 * one.colwise().norm().maxCoeff()) << "stamps added up";
-  EXPECT_LE(edgeJump(two), 1.5 * edgeJump(one) + 1e-6) << "overlapping stamps made the surface rough";
-  EXPECT_GT((two - one).cwiseAbs().maxCoeff(), 0.0) << "the second tool had no effect";
+  ASSERT_NO_FATAL_FAILURE(twoToolsAsSmoothAsOne(at, deepestOutput));
   std::filesystem::remove_all(good);
   std::filesystem::remove_all(bad);
 }
