@@ -1,5 +1,5 @@
 // The frame path of EnrichmentSession: a state in, its enriched positions out (docs/design.md §6). The
-// configuration side (rest surfaces, example sets, knobs, the rebuild worker) is session_configuration.cpp.
+// configuration side is session_configuration.cpp (example sets, knobs) and session_rest_worker.cpp (rest surfaces).
 #include <cmath>
 
 #include "deformation_enrichment/enrichment/enrichment_session.hpp"
