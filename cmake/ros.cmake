@@ -173,4 +173,10 @@ if(CATKIN_ENABLE_TESTING)
     DEPENDENCIES bullet_coarse_sim_node acquisition_driver de_make_examples de_evaluate)
   set_tests_properties(_ctest_${PROJECT_NAME}_rostest_test_ros_coarse_simulator.test PROPERTIES
     FIXTURES_REQUIRED slab_auto_set ENVIRONMENT DE_TEST_SLAB_AUTO_SET=${DE_TEST_SLAB_AUTO_SET})
+  # ctest runs in parallel (scripts/test: one test per core), except these: every test against a master (one
+  # rostest port; their rates, timeouts and the soak's latencies assume the machine to themselves) and the
+  # second build of the package.
+  get_property(de_tests DIRECTORY PROPERTY TESTS)
+  list(FILTER de_tests INCLUDE REGEX "rostest|^rosrun_roslaunch$|^master_restart$|^catkin_workspace$|^soak$")
+  set_tests_properties(${de_tests} PROPERTIES RUN_SERIAL TRUE)
 endif()
