@@ -26,29 +26,39 @@ Eigen::Index entryIndex(const Eigen::SparseMatrix<double>& H, int row, int col) 
   return found - H.innerIndexPtr();
 }
 
-// Greedy colouring: each tet takes the smallest colour none of its vertices' earlier tets has, so tets of one
-// colour share no vertex and can scatter into vertex-indexed storage concurrently. Tet meshes need a few
-// dozen colours (bounded by 4 (max tets per vertex - 1) + 1).
-void colourTets(const mesh::TetMesh& mesh, std::vector<Eigen::Index>& order, std::vector<std::size_t>& start) {
+// Tets are coloured in blocks of consecutive ones (meshes number neighbouring tets closely, so a block is
+// compact and its scatter cache-friendly). Greedy: each block takes the smallest colour none of its vertices'
+// earlier blocks has, so blocks of one colour share no vertex and scatter into vertex-indexed storage
+// concurrently; within a block the tets go in order.
+constexpr Eigen::Index kColourBlock = 32;
+
+void colourTetBlocks(const mesh::TetMesh& mesh, std::vector<Eigen::Index>& blocks, std::vector<std::size_t>& start) {
+  const Eigen::Index count = (mesh.numTets() + kColourBlock - 1) / kColourBlock;
   std::vector<std::vector<int>> coloursAt(static_cast<std::size_t>(mesh.numVertices()));
-  Eigen::VectorXi colour(mesh.numTets());
+  std::vector<int> colour(static_cast<std::size_t>(count));
   std::vector<char> taken;
   int colours = 0;
-  for (Eigen::Index t = 0; t < mesh.numTets(); ++t) {
+  for (Eigen::Index b = 0; b < count; ++b) {
+    const Eigen::Index first = b * kColourBlock, last = std::min(first + kColourBlock, mesh.numTets());
     taken.assign(static_cast<std::size_t>(colours) + 1, 0);
-    for (int a = 0; a < 4; ++a)
-      for (int c : coloursAt[static_cast<std::size_t>(mesh.tets(a, t))]) taken[static_cast<std::size_t>(c)] = 1;
+    for (Eigen::Index t = first; t < last; ++t)
+      for (int a = 0; a < 4; ++a)
+        for (int c : coloursAt[static_cast<std::size_t>(mesh.tets(a, t))]) taken[static_cast<std::size_t>(c)] = 1;
     const int c = static_cast<int>(std::find(taken.begin(), taken.end(), 0) - taken.begin());
-    colour[t] = c;
+    colour[static_cast<std::size_t>(b)] = c;
     colours = std::max(colours, c + 1);
-    for (int a = 0; a < 4; ++a) coloursAt[static_cast<std::size_t>(mesh.tets(a, t))].push_back(c);
+    for (Eigen::Index t = first; t < last; ++t)
+      for (int a = 0; a < 4; ++a) {
+        std::vector<int>& at = coloursAt[static_cast<std::size_t>(mesh.tets(a, t))];
+        if (at.empty() || at.back() != c) at.push_back(c);
+      }
   }
   start.assign(static_cast<std::size_t>(colours) + 1, 0);
-  for (Eigen::Index t = 0; t < mesh.numTets(); ++t) ++start[static_cast<std::size_t>(colour[t]) + 1];
+  for (int c : colour) ++start[static_cast<std::size_t>(c) + 1];
   for (std::size_t c = 0; c < static_cast<std::size_t>(colours); ++c) start[c + 1] += start[c];
-  order.resize(static_cast<std::size_t>(mesh.numTets()));
+  blocks.resize(static_cast<std::size_t>(count));
   std::vector<std::size_t> next(start.begin(), start.end() - 1);
-  for (Eigen::Index t = 0; t < mesh.numTets(); ++t) order[next[static_cast<std::size_t>(colour[t])]++] = t;
+  for (Eigen::Index b = 0; b < count; ++b) blocks[next[static_cast<std::size_t>(colour[static_cast<std::size_t>(b)])]++] = b;
 }
 
 }  // namespace
@@ -59,7 +69,11 @@ void TetFem::forEachTetByColour(const Visit& visit) const {
   for (std::size_t c = 0; c + 1 < colourStart_.size(); ++c) {
     const auto begin = static_cast<std::ptrdiff_t>(colourStart_[c]), end = static_cast<std::ptrdiff_t>(colourStart_[c + 1]);
 #pragma omp parallel for schedule(static) if (parallel)
-    for (std::ptrdiff_t i = begin; i < end; ++i) visit(tetsByColour_[static_cast<std::size_t>(i)]);
+    for (std::ptrdiff_t i = begin; i < end; ++i) {
+      const Eigen::Index first = blocksByColour_[static_cast<std::size_t>(i)] * kColourBlock;
+      const Eigen::Index last = std::min(first + kColourBlock, rest_.numTets());
+      for (Eigen::Index t = first; t < last; ++t) visit(t);
+    }
   }
 }
 
@@ -82,7 +96,7 @@ TetFem::TetFem(const mesh::TetMesh& rest, std::vector<StableNeoHookean> material
     if (!dmInverse_[static_cast<std::size_t>(t)].allFinite())
       throw InvalidInputError("TetFem: rest tet " + std::to_string(t) + " is too degenerate to invert");
   }
-  colourTets(rest_, tetsByColour_, colourStart_);
+  colourTetBlocks(rest_, blocksByColour_, colourStart_);
 }
 
 TetFem::TetFem(const mesh::TetMesh& rest, const StableNeoHookean& material)

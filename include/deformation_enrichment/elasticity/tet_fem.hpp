@@ -4,9 +4,9 @@
 // the assembled energy E(x) = sum_t V_t Psi_t(F_t), its gradient (minus the elastic forces) and its
 // sparse (projected) Hessian. Degrees of freedom are ordered 3 v + i (vertex v, axis i).
 //
-// Assembly is parallel (OpenMP) and deterministic: the tets are coloured so that no two of one colour share a
-// vertex, each colour is scattered in parallel without atomics, and every entry sums its tets' terms in the
-// same order whatever the thread count and scheduling, so a solve gives the same bits on every run.
+// Assembly is parallel (OpenMP) and deterministic: blocks of consecutive tets are coloured so that no two
+// blocks of one colour share a vertex, each colour is scattered in parallel without atomics, and every entry
+// sums its tets' terms in the same order whatever the thread count and scheduling.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <vector>
@@ -61,7 +61,7 @@ private:
   void checkPositions(const Eigen::Matrix3Xd& x, const char* where) const;
   /// dvec(F)/dx of tet t (9 x 12, constant per tet): entry (i + 3 j, 3 a + i) = G(a, j).
   Eigen::Matrix<double, 9, 12> shapeDerivative(Eigen::Index t) const;
-  /// Calls visit(t) for every tet, colour by colour, the tets of one colour in parallel on large meshes.
+  /// Calls visit(t) for every tet, colour by colour, the blocks of one colour in parallel on large meshes.
   template <class Visit>
   void forEachTetByColour(const Visit& visit) const;
 
@@ -70,8 +70,8 @@ private:
   Eigen::VectorXi materialId_;
   std::vector<Eigen::Matrix3d> dmInverse_;
   Eigen::VectorXd restVolume_;
-  std::vector<Eigen::Index> tetsByColour_;  ///< tet indices grouped by colour, increasing within a colour
-  std::vector<std::size_t> colourStart_;    ///< colour c is tetsByColour_[colourStart_[c], colourStart_[c + 1])
+  std::vector<Eigen::Index> blocksByColour_;  ///< tet block indices grouped by colour, increasing within a colour
+  std::vector<std::size_t> colourStart_;      ///< colour c is blocksByColour_[colourStart_[c], colourStart_[c + 1])
 };
 
 /// Dof map for a body of `vertexCount` vertices whose listed vertices are constrained (all three axes):
