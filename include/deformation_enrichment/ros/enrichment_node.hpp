@@ -7,7 +7,6 @@
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <diagnostic_updater/publisher.h>
 #include <dynamic_reconfigure/server.h>
-#include <geometry_msgs/PoseStamped.h>
 #include <pcl_msgs/PolygonMesh.h>
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
@@ -15,7 +14,6 @@
 #include <tf2_ros/transform_listener.h>
 
 #include <chrono>
-#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -70,6 +68,7 @@ private:
   tf2_ros::Buffer tfBuffer_;
   tf2_ros::TransformListener tfListener_;
 
+  NodeCounters counters_;  // before tools_: its pose callbacks count drops until they are unsubscribed
   std::unique_ptr<ToolPoseInput> tools_;
   ros::Subscriber restMeshSub_, meshStateSub_, contactsSub_;
   ros::Publisher enrichedPub_, statusPub_, siteRegionsPub_;
@@ -88,7 +87,6 @@ private:
   ContactTracker contacts_;
   std::string meshFrame_;
   Eigen::Matrix3Xf state_;  // the current state's positions (storage reused from state to state)
-  NodeCounters counters_;
   std::unique_ptr<MasterWatch> masterWatch_;  // last: stops first
 };
 

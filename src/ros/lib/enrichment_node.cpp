@@ -14,9 +14,9 @@ EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
       privateNh_(privateNh),
       parameters_(readEnrichmentNodeOptions(privateNh)),
       tfListener_(tfBuffer_, nh),
+      counters_(parameters_.errorThrottle),
       diagnostics_(nh, privateNh),
-      contacts_(tfBuffer_, ros::Duration(parameters_.contactTimeout)),
-      counters_(parameters_.errorThrottle) {
+      contacts_(tfBuffer_, ros::Duration(parameters_.contactTimeout)) {
   std::optional<enrichment::RestGeometry> rest = startupRest();
   enrichment::SessionOptions options = parameters_.session;
   options.log = [](enrichment::SessionLogLevel level, const std::string& text) {
