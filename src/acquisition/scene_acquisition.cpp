@@ -227,13 +227,15 @@ void SceneAcquisition::solveFine(const ToolPath& path, InteractionResult& r) con
   Eigen::Matrix3Xd fine;
   r.fineSeconds = solvePath(impl_->fine, path, scene_, scene_.solve.indentSteps, scene_.solve.dragSteps, fine, r.converged, r.message);
   r.fineNodes = fine;
+  r.fine = fineOnSurface(fine);
+}
+
+Eigen::Matrix3Xd SceneAcquisition::fineOnSurface(const Eigen::Matrix3Xd& fine) const {
   const scenes::SceneModels& m = impl_->models;
-  if (m.surfaceOnFine) {
-    r.fine = mesh::interpolate(*m.surfaceOnFine, m.fine.mesh, fine);  // positions: barycentric weights sum to one
-  } else {
-    r.fine.resize(3, m.surface.numVertices());
-    for (Eigen::Index v = 0; v < r.fine.cols(); ++v) r.fine.col(v) = fine.col(m.surfaceToFine[static_cast<std::size_t>(v)]);
-  }
+  if (m.surfaceOnFine) return mesh::interpolate(*m.surfaceOnFine, m.fine.mesh, fine);  // positions: barycentric weights sum to one
+  Eigen::Matrix3Xd onSurface(3, m.surface.numVertices());
+  for (Eigen::Index v = 0; v < onSurface.cols(); ++v) onSurface.col(v) = fine.col(m.surfaceToFine[static_cast<std::size_t>(v)]);
+  return onSurface;
 }
 
 cv::Mat SceneAcquisition::volumeStamp(const InteractionResult& result, const Eigen::Vector3d& p, const Eigen::Matrix3d& B,
@@ -263,16 +265,17 @@ Eigen::Matrix3Xd SceneAcquisition::coarseOnFineSurface(const Eigen::Matrix3Xd& c
   return impl_->models.surface.vertices + mesh::interpolate(impl_->embedding, rest, coarse - rest.vertices);
 }
 
-std::vector<Eigen::Matrix3Xd> SceneAcquisition::coarsePath(const PlanEntry& entry, int indentSteps, int dragSteps,
-                                                           std::string* message) const {
-  if (indentSteps < 1 || dragSteps < 0) throw InvalidInputError("coarsePath: needs indentSteps >= 1 and dragSteps >= 0");
+std::vector<Eigen::Matrix3Xd> SceneAcquisition::surfacePath(Resolution model, const PlanEntry& entry, int indentSteps,
+                                                            int dragSteps, std::string* message) const {
+  if (indentSteps < 1 || dragSteps < 0) throw InvalidInputError("surfacePath: needs indentSteps >= 1 and dragSteps >= 0");
   const ToolPath path = toolPath(entry);
   std::vector<Eigen::Matrix3Xd> states{impl_->models.surface.vertices};
-  Eigen::Matrix3Xd coarse;
+  Eigen::Matrix3Xd positions;
   bool converged = true;
   std::string log;
-  solvePath(impl_->coarse, path, scene_, indentSteps, dragSteps, coarse, converged, log,
-            [&](const Eigen::Matrix3Xd& positions) { states.push_back(coarseOnFineSurface(positions)); });
+  const bool coarse = model == Resolution::Coarse;
+  solvePath(coarse ? impl_->coarse : impl_->fine, path, scene_, indentSteps, dragSteps, positions, converged, log,
+            [&](const Eigen::Matrix3Xd& p) { states.push_back(coarse ? coarseOnFineSurface(p) : fineOnSurface(p)); });
   if (message) *message = log;
   return states;
 }

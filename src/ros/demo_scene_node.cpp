@@ -6,18 +6,27 @@
 // - snh (default): the scene's coarse Stable Neo-Hookean simulation. At start-up the coarse quasi-static path
 //   of every tap is solved once (a few seconds); the node then plays it at `rate`, interpolating between
 //   solved steps, and publishes the latched rest mesh (the display surface the examples were acquired on)
-//   and the coarse states carried onto it;
+//   and the coarse states carried onto it; with ~fine_truth (default true) it also solves the fine path of
+//   every tap, on a thread of its own while the coarse ones play (about 2 s per slab tap), and from then on
+//   publishes it on fine_state with the stamps of the coarse states: the truth the enrichment node draws
+//   beside its output (~marker_fine_offset);
 // - simulator: a coarse simulator running beside it (docs/coarse_simulator.md, e.g. bullet_coarse_sim_node)
 //   publishes the states and the rest mesh; this node commands its tool on servo_cp.
 #include <geometry_msgs/PoseStamped.h>
 #include <ros/ros.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
 #include <tf2_ros/static_transform_broadcaster.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
+#include <thread>
 
 #include "deformation_enrichment/ToolContactArray.h"
 #include "deformation_enrichment/acquisition/plan_generation.hpp"
@@ -65,7 +74,7 @@ Tap solveTap(const de::acquisition::SceneAcquisition& scene, const de::acquisiti
              int dragSteps) {
   Tap tap{scene.toolPath(entry), {}, {}};
   std::string message;
-  tap.path = scene.coarsePath(entry, indentSteps, dragSteps, &message);
+  tap.path = scene.surfacePath(de::acquisition::SceneAcquisition::Resolution::Coarse, entry, indentSteps, dragSteps, &message);
   if (!message.empty()) ROS_WARN("demo scene: coarse solver: %s", message.c_str());
   const de::acquisition::ToolPath& p = tap.toolPath;
   const int drag = static_cast<int>(tap.path.size()) - 1 - indentSteps;
@@ -73,6 +82,53 @@ Tap solveTap(const de::acquisition::SceneAcquisition& scene, const de::acquisiti
   for (int step = 0; step < static_cast<int>(tap.path.size()); ++step)
     tap.tool.push_back(de::acquisition::toolDisplacement(step, indentSteps, drag, p.inward, p.depth, dragDirection, p.drag.norm()));
   return tap;
+}
+
+// The fine paths of the taps (the same steps as the coarse ones), solved one tap after the other on a thread
+// of their own; each is available once solved.
+class FineTruth {
+public:
+  FineTruth(const de::acquisition::SceneAcquisition& scene, std::vector<de::acquisition::PlanEntry> entries, int indentSteps,
+            int dragSteps)
+      : paths_(entries.size()) {
+    worker_ = std::thread([this, &scene, entries = std::move(entries), indentSteps, dragSteps] {
+      // Lowest priority (the solver's OpenMP threads, started here, inherit it): the states must keep their rate.
+      setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 19);
+      for (std::size_t tap = 0; tap < entries.size() && !stop_; ++tap) {
+        std::string message;
+        auto path = scene.surfacePath(de::acquisition::SceneAcquisition::Resolution::Fine, entries[tap], indentSteps, dragSteps, &message);
+        if (!message.empty()) ROS_WARN("demo scene: fine solver, tap %zu: %s", tap, message.c_str());
+        std::lock_guard<std::mutex> lock(mutex_);
+        paths_[tap] = std::make_shared<const std::vector<Eigen::Matrix3Xd>>(std::move(path));
+      }
+      ROS_INFO("demo scene: the fine truth of every tap is solved");
+    });
+  }
+  ~FineTruth() {
+    stop_ = true;  // after the tap being solved
+    worker_.join();
+  }
+  /// The fine path of `tap`, null until solved.
+  std::shared_ptr<const std::vector<Eigen::Matrix3Xd>> path(std::size_t tap) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return paths_[tap];
+  }
+
+private:
+  mutable std::mutex mutex_;
+  std::vector<std::shared_ptr<const std::vector<Eigen::Matrix3Xd>>> paths_;
+  std::atomic<bool> stop_{false};
+  std::thread worker_;
+};
+
+// Taps and their phases keep time with the clock, not with the node's start, so that whoever knows the period
+// knows where in a tap the tool is (scripts/demo takes its screenshot mid-press): tap number + phase.
+double tapClock(const ros::Time& now, double period) { return now.toSec() / period; }
+
+// A path's state at solved step k + f (f in [0, 1]).
+template <typename State>
+State between(const std::vector<State>& path, int k, double f) {
+  return (1.0 - f) * path[static_cast<std::size_t>(k)] + f * path[static_cast<std::size_t>(k + 1)];
 }
 
 // The scene's frame as an identity child of `parent` in tf: without any tf data for it rviz reports its
@@ -90,6 +146,7 @@ struct DemoOptions {
   std::string frame, parentFrame, setPath, sceneName, contactsFile, coarse;
   double rate = 30.0, period = 3.0;
   int indentSteps = 6, dragSteps = 6, seed = 7;
+  bool fineTruth = true;
 };
 
 DemoOptions readSettings(ros::NodeHandle& pnh) {
@@ -105,6 +162,7 @@ DemoOptions readSettings(ros::NodeHandle& pnh) {
   s.contactsFile = pnh.param<std::string>("contacts_file", "");
   s.seed = pnh.param("seed", s.seed);
   s.coarse = pnh.param<std::string>("coarse", "snh");
+  s.fineTruth = pnh.param("fine_truth", s.fineTruth);
   if (!(s.rate > 0.0) || !std::isfinite(s.rate) || !(s.period > 0.0) || !std::isfinite(s.period))
     throw std::runtime_error("~rate (" + std::to_string(s.rate) + ") and ~tap_period (" + std::to_string(s.period) +
                              ") must be positive and finite");
@@ -125,32 +183,38 @@ std::unique_ptr<de::acquisition::SceneAcquisition> loadScene(const DemoOptions& 
   return std::make_unique<de::acquisition::SceneAcquisition>(description);
 }
 
-// Plays the coarse SNH paths of the taps: the rest mesh, the states and the tool's contacts.
+// Plays the coarse SNH paths of the taps: the rest mesh, the states and the tool's contacts, and the fine
+// truth of the taps already solved (`fine`: null for none).
 void playSolvedTaps(ros::NodeHandle& nh, const de::acquisition::SceneAcquisition& scene, const std::vector<Tap>& taps,
-                    const DemoOptions& settings, std_msgs::Header header) {
+                    const FineTruth* fine, const DemoOptions& settings, std_msgs::Header header) {
   ros::Publisher restPub = nh.advertise<pcl_msgs::PolygonMesh>("rest_mesh", 1, /*latch=*/true);
   ros::Publisher statePub = nh.advertise<sensor_msgs::PointCloud2>("mesh_state", 2);
   ros::Publisher contactsPub = nh.advertise<de::ToolContactArray>("contacts", 2);
+  ros::Publisher finePub;
+  if (fine) finePub = nh.advertise<sensor_msgs::PointCloud2>("fine_state", 2);
   restPub.publish(de::ros_layer::messageFromTriangleMesh(scene.fineSurface(), header));
-  const ros::Time start = ros::Time::now();
   ros::Rate loop(settings.rate);
   while (ros::ok()) {
     header.stamp = ros::Time::now();
-    const double t = (header.stamp - start).toSec() / settings.period;
-    const Tap& tap = taps[static_cast<std::size_t>(t) % taps.size()];
+    const double t = tapClock(header.stamp, settings.period);
+    const std::size_t index = static_cast<std::size_t>(t) % taps.size();
+    const Tap& tap = taps[index];
     const int steps = static_cast<int>(tap.path.size()) - 1;
     const double s = pathParameter(t - std::floor(t), steps);
     const int k = std::min(static_cast<int>(s), steps - 1);
     const double f = s - k;
-    const Eigen::Matrix3Xd positions = (1.0 - f) * tap.path[static_cast<std::size_t>(k)] + f * tap.path[static_cast<std::size_t>(k + 1)];
+    const Eigen::Matrix3Xd positions = between(tap.path, k, f);
     de::ToolContactArray contacts;
     contacts.header = header;
     if (s > 0.0) {
       // The tool tip: where the tool has moved the surface point it touches.
-      const Eigen::Vector3d tip = tap.toolPath.contact + (1.0 - f) * tap.tool[static_cast<std::size_t>(k)] + f * tap.tool[static_cast<std::size_t>(k + 1)];
+      const Eigen::Vector3d tip = tap.toolPath.contact + between(tap.tool, k, f);
       contacts.contacts.push_back(toolContact(header, tip, tap.toolPath.inward));
     }
     contactsPub.publish(contacts);
+    // The truth first: the enrichment node draws the fine state of the stamp it has just enriched.
+    if (const auto finePath = fine ? fine->path(index) : nullptr)
+      finePub.publish(de::ros_layer::cloudFromPositions(between(*finePath, k, f).cast<float>(), header));
     statePub.publish(de::ros_layer::cloudFromPositions(positions.cast<float>(), header));
     ros::spinOnce();
     loop.sleep();
@@ -177,11 +241,10 @@ void scriptSimulatorTool(ros::NodeHandle& nh, const de::acquisition::SceneAcquis
   ros::Subscriber measuredSub = nh.subscribe<geometry_msgs::PoseStamped>("measured_cp", 2, [&](const geometry_msgs::PoseStampedConstPtr& pose) {
     measured = Eigen::Vector3d(pose->pose.position.x, pose->pose.position.y, pose->pose.position.z);
   });
-  const ros::Time start = ros::Time::now();
   ros::Rate loop(settings.rate);
   while (ros::ok()) {
     header.stamp = ros::Time::now();
-    const double t = (header.stamp - start).toSec() / settings.period;
+    const double t = tapClock(header.stamp, settings.period);
     const std::size_t tap = static_cast<std::size_t>(t) % centres.size();
     const std::vector<Eigen::Vector3d>& c = centres[tap];
     const de::acquisition::ToolPath& path = paths[tap];
@@ -189,7 +252,7 @@ void scriptSimulatorTool(ros::NodeHandle& nh, const de::acquisition::SceneAcquis
     const double s = pathParameter(t - std::floor(t), steps);
     const int k = std::min(static_cast<int>(s), steps - 1);
     const double f = s - k;
-    const Eigen::Vector3d centre = s > 0.0 ? Eigen::Vector3d((1.0 - f) * c[static_cast<std::size_t>(k)] + f * c[static_cast<std::size_t>(k + 1)])
+    const Eigen::Vector3d centre = s > 0.0 ? between(c, k, f)
                                            : Eigen::Vector3d(c.front() - std::max(radius, 2.0 * path.depth) * path.inward);
     commandPub.publish(de::ros_layer::poseAt(centre, header));
     de::ToolContactArray contacts;
@@ -232,9 +295,12 @@ int main(int argc, char** argv) {
   ROS_INFO("demo scene %s: %ld surface vertices; %zu taps, one every %.1f s; coarse states from %s", settings.sceneName.c_str(),
            static_cast<long>(scene->fineSurface().numVertices()), entries.size(), settings.period,
            settings.coarse == "snh" ? "the coarse SNH paths solved at start-up" : "the simulator (servo_cp out, measured_cp in)");
-  if (settings.coarse == "snh")
-    playSolvedTaps(nh, *scene, taps, settings, header);
-  else
+  if (settings.coarse == "snh") {
+    std::optional<FineTruth> fine;
+    if (settings.fineTruth) fine.emplace(*scene, entries, settings.indentSteps, settings.dragSteps);
+    playSolvedTaps(nh, *scene, taps, fine ? &*fine : nullptr, settings, header);
+  } else {
     scriptSimulatorTool(nh, *scene, entries, settings, header);
+  }
   return 0;
 }

@@ -1,5 +1,6 @@
-// The rviz markers of the enrichment without the node: the coarse surface beside the enriched one, the
-// colour bar's ends against the surface's colours, strain colours, and the marker parameters. Linked into
+// The rviz markers of the enrichment without the node: the coarse surface and the fine truth beside the
+// enriched one, the colour bar's ends against the surface's colours, strain colours, and the marker
+// parameters. Linked into
 // test_enrichment_knobs (the parameter test needs its master).
 #include <gtest/gtest.h>
 #include <ros/ros.h>
@@ -89,6 +90,37 @@ TEST(EnrichmentMarkers, NoCoarseSurfaceWithoutAnOffset) {
   EXPECT_NE(find(array, "colour_bar", 0), nullptr);
 }
 
+TEST(EnrichmentMarkers, FineTruthBesideTheEnrichedOneColouredByTheEnrichedError) {
+  const de::mesh::TriangleMesh rest = flatSquare();
+  const Eigen::Matrix3Xf input = rest.vertices.cast<float>();
+  de::ros_layer::MarkerOptions options;
+  options.fineOffset = Eigen::Vector3d(0.0, 0.11, 0.0);
+  // The enrichment got vertex 0 exactly right and every other vertex wrong by the full colour scale.
+  Eigen::Matrix3Xf fine = input;
+  fine.row(2).setConstant(-0.002f);
+  Eigen::Matrix3Xf enriched = fine;
+  enriched.rightCols(3).row(2).array() += static_cast<float>(options.displacementScale);
+  const auto array = de::ros_layer::enrichmentMarkers({}, rest, input, enriched, {}, options, &fine);
+  const auto* truth = find(array, "fine_surface", 0);
+  ASSERT_NE(truth, nullptr);
+  const auto* bar = find(array, "colour_bar", 0);
+  ASSERT_NE(bar, nullptr);
+  ASSERT_EQ(truth->points.size(), 6u);
+  for (std::size_t i = 0; i < truth->points.size(); ++i) {
+    const int v = rest.triangles(static_cast<int>(i % 3), static_cast<int>(i / 3));
+    EXPECT_NEAR(truth->points[i].y, fine(1, v) + options.fineOffset.y(), 1e-7);
+    EXPECT_NEAR(truth->points[i].z, fine(2, v), 1e-7);
+    expectSameColor(truth->colors[i], barEnd(*bar, /*top=*/v != 0));
+  }
+  // The bar stands right of the rightmost surface, the fine truth's.
+  for (const auto& p : bar->points) EXPECT_GT(p.y, 0.01 + options.fineOffset.y());
+  // Without a truth, or without an offset, there is no fine surface.
+  EXPECT_EQ(find(de::ros_layer::enrichmentMarkers({}, rest, input, enriched, {}, options), "fine_surface", 0), nullptr);
+  EXPECT_EQ(find(de::ros_layer::enrichmentMarkers({}, rest, input, enriched, {}, de::ros_layer::MarkerOptions(), &fine),
+                 "fine_surface", 0),
+            nullptr);
+}
+
 TEST(EnrichmentMarkers, StrainColoursShowEachTrianglesLargestPrincipalStrain) {
   const de::mesh::TriangleMesh rest = flatSquare();
   const Eigen::Matrix3Xf input = rest.vertices.cast<float>();
@@ -121,7 +153,7 @@ TEST(EnrichmentMarkers, StrainColoursShowEachTrianglesLargestPrincipalStrain) {
   EXPECT_EQ(find(stretched, "colour_bar", 2)->text, "10 %");
 }
 
-TEST(EnrichmentMarkers, CoarseOffsetParameterIsAVectorOfThreeElseOff) {
+TEST(EnrichmentMarkers, OffsetParametersAreVectorsOfThreeElseOff) {
   ros::NodeHandle nh("marker_options_test");
   nh.setParam("marker_coarse_offset", std::vector<double>{0.0, -0.11, 0.01});
   EXPECT_TRUE(de::ros_layer::readMarkerOptions(nh).coarseOffset.isApprox(Eigen::Vector3d(0.0, -0.11, 0.01)));
@@ -129,6 +161,12 @@ TEST(EnrichmentMarkers, CoarseOffsetParameterIsAVectorOfThreeElseOff) {
   EXPECT_TRUE(de::ros_layer::readMarkerOptions(nh).coarseOffset.isZero());
   nh.deleteParam("marker_coarse_offset");
   EXPECT_TRUE(de::ros_layer::readMarkerOptions(nh).coarseOffset.isZero());
+  EXPECT_TRUE(de::ros_layer::readMarkerOptions(nh).fineOffset.isZero());
+  nh.setParam("marker_fine_offset", std::vector<double>{0.0, 0.11, 0.0});
+  EXPECT_TRUE(de::ros_layer::readMarkerOptions(nh).fineOffset.isApprox(Eigen::Vector3d(0.0, 0.11, 0.0)));
+  nh.setParam("marker_fine_offset", std::vector<double>{0.0, std::nan(""), 0.0});
+  EXPECT_TRUE(de::ros_layer::readMarkerOptions(nh).fineOffset.isZero());
+  nh.deleteParam("marker_fine_offset");
   EXPECT_EQ(de::ros_layer::readMarkerOptions(nh).color, de::ros_layer::MarkerOptions::Color::Displacement);
   nh.setParam("marker_color", "strain");
   EXPECT_EQ(de::ros_layer::readMarkerOptions(nh).color, de::ros_layer::MarkerOptions::Color::Strain);

@@ -92,11 +92,14 @@ public:
   /// for a state of another size than the display surface or a non-finite one.
   InteractionResult simulate(const PlanEntry& entry, const Eigen::Matrix3Xd& coarseOnSurface) const;
 
-  /// The coarse quasi-static path of an interaction on the display surface: the rest state, then the state
-  /// after each of `indentSteps` indentation and `dragSteps` drag steps (none without a drag). Solver
-  /// messages of unconverged steps go to `message`. For playing a coarse simulation (the demo).
-  std::vector<Eigen::Matrix3Xd> coarsePath(const PlanEntry& entry, int indentSteps, int dragSteps,
-                                           std::string* message = nullptr) const;
+  /// Which of the scene's two simulations: the coarse one (what runs live) or the fine one (the truth).
+  enum class Resolution { Coarse, Fine };
+  /// The quasi-static path of an interaction in one simulation, on the display surface: the rest state, then
+  /// the state after each of `indentSteps` indentation and `dragSteps` drag steps (none without a drag).
+  /// Solver messages of unconverged steps go to `message`. For playing a simulation (the demo: the coarse
+  /// one enriched, the fine one as the truth beside it).
+  std::vector<Eigen::Matrix3Xd> surfacePath(Resolution model, const PlanEntry& entry, int indentSteps, int dragSteps,
+                                            std::string* message = nullptr) const;
 
   /// The example of an interaction (descriptors from the coarse state, stamp from d = fine - coarse).
   examples::Example makeExample(const PlanEntry& entry, const InteractionResult& result);
@@ -117,6 +120,7 @@ private:
   /// The fine half of `r`: fine, fineNodes, fineSeconds (and converged, message when it is not).
   void solveFine(const ToolPath& path, InteractionResult& r) const;
   Eigen::Matrix3Xd coarseOnFineSurface(const Eigen::Matrix3Xd& coarse) const;
+  Eigen::Matrix3Xd fineOnSurface(const Eigen::Matrix3Xd& fine) const;
   /// The volume stamp of an interaction: B^T R^T (fine - coarse) at the stamp's nodes (`toFrame` = B^T R^T).
   cv::Mat volumeStamp(const InteractionResult& result, const Eigen::Vector3d& p, const Eigen::Matrix3d& B,
                       const Eigen::Matrix3d& toFrame) const;

@@ -1,7 +1,7 @@
 #pragma once
 // rviz markers of the enrichment: the enriched surface coloured by the displacement the enrichment
-// added and shaded, optionally the coarse input surface beside it, a colour bar of the scale, and the
-// tool contacts with their normals.
+// added and shaded, optionally the coarse input surface and the fine truth beside it, a colour bar of the
+// scale, and the tool contacts with their normals.
 #include <visualization_msgs/MarkerArray.h>
 
 #include <Eigen/Core>
@@ -22,14 +22,19 @@ struct MarkerOptions {
   double strainScale = 0.1;           ///< strain shown as full red (0.1 = 10 %)
   /// Where the coarse input surface is drawn relative to the enriched one [m]; zero: not drawn.
   Eigen::Vector3d coarseOffset = Eigen::Vector3d::Zero();
+  /// Where the fine truth (when there is one: the fine simulation's state for the input) is drawn relative
+  /// to the enriched surface [m], coloured by the enriched state's error against it; zero: not drawn.
+  Eigen::Vector3d fineOffset = Eigen::Vector3d::Zero();
 };
 
-/// Namespaces: enriched_surface, coarse_surface (when options.coarseOffset is not zero), colour_bar,
-/// contacts, contact_normals; the enriched surface's triangle list is the first marker. With strain colours
-/// and a rest triangle too degenerate for a deformation gradient, the displacement is shown instead (logged).
+/// Namespaces: enriched_surface, coarse_surface (when options.coarseOffset is not zero), fine_surface (when
+/// options.fineOffset is not zero and `fineTruth` is given: |enriched - fine truth| per vertex on the
+/// displacement scale), colour_bar, contacts, contact_normals; the enriched surface's triangle list is the
+/// first marker. With strain colours and a rest triangle too degenerate for a deformation gradient, the
+/// displacement is shown instead (logged).
 visualization_msgs::MarkerArray enrichmentMarkers(const std_msgs::Header& header, const mesh::TriangleMesh& rest,
                                                   const Eigen::Matrix3Xf& input, const Eigen::Matrix3Xf& enriched,
                                                   const std::vector<TrackedContact>& contacts,
-                                                  const MarkerOptions& options);
+                                                  const MarkerOptions& options, const Eigen::Matrix3Xf* fineTruth = nullptr);
 
 }  // namespace deformation_enrichment::ros_layer

@@ -1,10 +1,17 @@
 #pragma once
 // The enrichment node's ~markers topic: keeps the last enriched state (shared pointers, no copy) and draws it
-// (enrichment_markers.hpp) at ~marker_rate, decoding the point clouds only while someone subscribes.
+// (enrichment_markers.hpp) at ~marker_rate, decoding the point clouds only while someone subscribes. With a
+// fine offset it also listens to fine_state, the fine simulation's states of the input stream (a demo or an
+// evaluation publishes them with the stamps of the mesh states they belong to), and draws the one of the
+// drawn state's stamp beside it. It draws on a thread and callback queue of its own, so a draw (decoding and
+// triangulating up to three surfaces) never delays a state.
+#include <ros/callback_queue.h>
 #include <ros/node_handle.h>
+#include <ros/spinner.h>
 #include <ros/timer.h>
 #include <sensor_msgs/PointCloud2.h>
 
+#include <deque>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -21,8 +28,10 @@ public:
   /// The rest surface a state of `vertices` points lies on (null: none).
   using RestLookup = std::function<std::shared_ptr<const enrichment::RestSurface>(Eigen::Index vertices)>;
 
-  /// Advertises ~markers on `privateNh` and draws at `rate` Hz on `nh`'s queue (0: never).
+  /// Advertises ~markers on `privateNh` and draws at `rate` Hz (0: never); subscribes to fine_state on `nh`
+  /// when options.fineOffset is not zero.
   MarkerPublisher(ros::NodeHandle nh, ros::NodeHandle privateNh, double rate, MarkerOptions options, RestLookup rest);
+  ~MarkerPublisher();
 
   /// The state to draw next: its input, what was published for it, and its contacts. Thread-safe.
   void keep(const sensor_msgs::PointCloud2ConstPtr& input, const sensor_msgs::PointCloud2ConstPtr& output,
@@ -30,14 +39,21 @@ public:
 
 private:
   void draw(const ros::TimerEvent&);
+  void keepFine(const sensor_msgs::PointCloud2ConstPtr& fine);
+  /// The fine state of `stamp` among the last ones received (null: none); mutex_ held.
+  sensor_msgs::PointCloud2ConstPtr fineAt(const ros::Time& stamp) const;
 
+  ros::CallbackQueue queue_;  // the timer's and fine_state's; declared before them, which remove themselves from it
   ros::Publisher publisher_;
   ros::Timer timer_;
+  ros::Subscriber fineSubscriber_;
   MarkerOptions options_;
   RestLookup rest_;
   std::mutex mutex_;  // guards the kept state below
   sensor_msgs::PointCloud2ConstPtr input_, output_;
   std::vector<TrackedContact> touching_;
+  std::deque<sensor_msgs::PointCloud2ConstPtr> fine_;  // the newest last
+  std::unique_ptr<ros::AsyncSpinner> spinner_;
 };
 
 }  // namespace deformation_enrichment::ros_layer

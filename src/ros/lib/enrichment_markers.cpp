@@ -161,7 +161,7 @@ std::string formatted(const char* format, double value) {
 visualization_msgs::MarkerArray enrichmentMarkers(const std_msgs::Header& header, const mesh::TriangleMesh& rest,
                                                   const Eigen::Matrix3Xf& input, const Eigen::Matrix3Xf& enriched,
                                                   const std::vector<TrackedContact>& contacts,
-                                                  const MarkerOptions& options) {
+                                                  const MarkerOptions& options, const Eigen::Matrix3Xf* fineTruth) {
   visualization_msgs::MarkerArray array;
   const Eigen::VectorXf added = (enriched - input).colwise().norm();
   const Eigen::Index stride = std::max<Eigen::Index>(1, (rest.numTriangles() + options.maxTriangles - 1) /
@@ -184,10 +184,21 @@ visualization_msgs::MarkerArray enrichmentMarkers(const std_msgs::Header& header
                                     [](Eigen::Index, int) { return rgb(0.7, 0.7, 0.7); }));
     array.markers.push_back(text(header, "coarse_surface", 1, labelAt + options.coarseOffset, "coarse input"));
   }
+  const bool fineDrawn = !options.fineOffset.isZero() && fineTruth;
+  if (fineDrawn) {
+    const Eigen::VectorXf error = (enriched - *fineTruth).colwise().norm();
+    array.markers.push_back(surface(header, "fine_surface", rest, *fineTruth, options.fineOffset, stride,
+                                    [&](Eigen::Index, int v) { return heatColor(error[v] / options.displacementScale); }));
+    array.markers.push_back(text(header, "fine_surface", 1, labelAt + options.fineOffset, "fine truth, coloured by the enriched error"));
+  }
+  // The colour bar right of the rightmost surface drawn.
+  Eigen::Vector3d barHigh = high;
+  if (!options.coarseOffset.isZero()) barHigh.y() = std::max(barHigh.y(), high.y() + options.coarseOffset.y());
+  if (fineDrawn) barHigh.y() = std::max(barHigh.y(), high.y() + options.fineOffset.y());
   if (strain.size() > 0)
-    addColourBar(array, header, low, high, "principal strain", formatted("%.3g %%", 100.0 * options.strainScale), "0 %");
+    addColourBar(array, header, low, barHigh, "principal strain", formatted("%.3g %%", 100.0 * options.strainScale), "0 %");
   else
-    addColourBar(array, header, low, high, "added displacement", formatted("%.3g mm", 1e3 * options.displacementScale), "0 mm");
+    addColourBar(array, header, low, barHigh, "added displacement", formatted("%.3g mm", 1e3 * options.displacementScale), "0 mm");
   addContacts(array, header, contacts);
   return array;
 }

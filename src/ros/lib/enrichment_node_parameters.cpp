@@ -94,6 +94,16 @@ void readToolPoses(const ros::NodeHandle& nh, EnrichmentNodeOptions& p) {
   if (needsUrdf && nh.searchParam("robot_description", key) && nh.getParam(key, urdf)) p.robotDescription = urdf;
 }
 
+// Where a surface is drawn beside the enriched one: [x, y, z] in metres; zero (not drawn) when absent or bad.
+Eigen::Vector3d markerOffset(const ros::NodeHandle& privateNh, const std::string& name, const char* surface) {
+  std::vector<double> offset;
+  if (!privateNh.getParam(name, offset)) return Eigen::Vector3d::Zero();
+  if (offset.size() == 3 && std::all_of(offset.begin(), offset.end(), [](double v) { return std::isfinite(v); }))
+    return Eigen::Vector3d(offset[0], offset[1], offset[2]);
+  ROS_ERROR("~%s must be [x, y, z] in metres (finite); not drawing %s", name.c_str(), surface);
+  return Eigen::Vector3d::Zero();
+}
+
 }  // namespace
 
 MarkerOptions readMarkerOptions(const ros::NodeHandle& privateNh) {
@@ -111,13 +121,8 @@ MarkerOptions readMarkerOptions(const ros::NodeHandle& privateNh) {
   if (color == "strain") options.color = MarkerOptions::Color::Strain;
   else if (color != "displacement")
     ROS_ERROR("~marker_color '%s' is neither 'displacement' nor 'strain': showing the displacement", color.c_str());
-  std::vector<double> offset;
-  if (privateNh.getParam("marker_coarse_offset", offset)) {
-    if (offset.size() == 3 && std::all_of(offset.begin(), offset.end(), [](double v) { return std::isfinite(v); }))
-      options.coarseOffset = Eigen::Vector3d(offset[0], offset[1], offset[2]);
-    else
-      ROS_ERROR("~marker_coarse_offset must be [x, y, z] in metres (finite); not drawing the coarse surface");
-  }
+  options.coarseOffset = markerOffset(privateNh, "marker_coarse_offset", "the coarse surface");
+  options.fineOffset = markerOffset(privateNh, "marker_fine_offset", "the fine truth");
   return options;
 }
 

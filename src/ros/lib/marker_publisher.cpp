@@ -1,16 +1,60 @@
 #include "deformation_enrichment/ros/marker_publisher.hpp"
 
+#include <ros/console.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include <algorithm>
+#include <optional>
+
+#include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/ros/conversions.hpp"
 
 namespace deformation_enrichment::ros_layer {
+namespace {
+// Fine states kept for matching the drawn state's stamp: half a second of a 60 Hz stream, while a draw
+// needs only those that arrived since the last one.
+constexpr std::size_t kFineStatesKept = 32;
+
+// A fine state's positions, when it is a usable truth for a state of `vertices` points (else logged).
+std::optional<Eigen::Matrix3Xf> fineTruth(const sensor_msgs::PointCloud2& fine, Eigen::Index vertices) {
+  try {
+    Eigen::Matrix3Xf truth = positionsFromCloud(fine);
+    if (truth.cols() == vertices && truth.allFinite()) return truth;
+    ROS_ERROR_THROTTLE(10.0, "fine_state of %ld points (finite: %s) for a mesh state of %ld: not drawing the fine truth",
+                       static_cast<long>(truth.cols()), truth.allFinite() ? "yes" : "no", static_cast<long>(vertices));
+  } catch (const Error& e) {
+    ROS_ERROR_THROTTLE(10.0, "fine_state unreadable, not drawing the fine truth: %s", e.what());
+  }
+  return std::nullopt;
+}
+
+}  // namespace
 
 MarkerPublisher::MarkerPublisher(ros::NodeHandle nh, ros::NodeHandle privateNh, double rate, MarkerOptions options,
                                  RestLookup rest)
     : options_(std::move(options)), rest_(std::move(rest)) {
   publisher_ = privateNh.advertise<visualization_msgs::MarkerArray>("markers", 1);
-  if (rate > 0.0) timer_ = nh.createTimer(ros::Duration(1.0 / rate), &MarkerPublisher::draw, this);
+  if (rate <= 0.0) return;
+  nh.setCallbackQueue(&queue_);
+  timer_ = nh.createTimer(ros::Duration(1.0 / rate), &MarkerPublisher::draw, this);
+  if (!options_.fineOffset.isZero()) fineSubscriber_ = nh.subscribe("fine_state", 4, &MarkerPublisher::keepFine, this);
+  spinner_ = std::make_unique<ros::AsyncSpinner>(1, &queue_);
+  spinner_->start();
+}
+
+MarkerPublisher::~MarkerPublisher() {
+  if (spinner_) spinner_->stop();  // no draw runs past this point
+}
+
+void MarkerPublisher::keepFine(const sensor_msgs::PointCloud2ConstPtr& fine) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  fine_.push_back(fine);
+  if (fine_.size() > kFineStatesKept) fine_.pop_front();
+}
+
+sensor_msgs::PointCloud2ConstPtr MarkerPublisher::fineAt(const ros::Time& stamp) const {
+  const auto match = std::find_if(fine_.rbegin(), fine_.rend(), [&](const auto& fine) { return fine->header.stamp == stamp; });
+  return match == fine_.rend() ? nullptr : *match;
 }
 
 void MarkerPublisher::keep(const sensor_msgs::PointCloud2ConstPtr& input, const sensor_msgs::PointCloud2ConstPtr& output,
@@ -23,7 +67,7 @@ void MarkerPublisher::keep(const sensor_msgs::PointCloud2ConstPtr& input, const 
 
 void MarkerPublisher::draw(const ros::TimerEvent&) {
   if (publisher_.getNumSubscribers() == 0) return;  // markers cost megabytes: only for an audience
-  sensor_msgs::PointCloud2ConstPtr input, output;
+  sensor_msgs::PointCloud2ConstPtr input, output, fine;
   std::vector<TrackedContact> touching;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -31,11 +75,14 @@ void MarkerPublisher::draw(const ros::TimerEvent&) {
     input = input_;
     output = output_;
     touching = touching_;
+    fine = fineAt(input_->header.stamp);
   }
   const Eigen::Matrix3Xf before = positionsFromCloud(*input), after = positionsFromCloud(*output);
   const std::shared_ptr<const enrichment::RestSurface> rest = rest_(before.cols());
   if (!rest) return;
-  publisher_.publish(enrichmentMarkers(input->header, rest->geometry.surface, before, after, touching, options_));
+  const std::optional<Eigen::Matrix3Xf> truth = fine ? fineTruth(*fine, before.cols()) : std::nullopt;
+  publisher_.publish(enrichmentMarkers(input->header, rest->geometry.surface, before, after, touching, options_,
+                                       truth ? &*truth : nullptr));
 }
 
 }  // namespace deformation_enrichment::ros_layer

@@ -147,27 +147,37 @@ TEST(SceneAcquisition, AcquiredSetResumesWithoutRecomputing) {
   std::filesystem::remove_all(dir);
 }
 
-TEST(SceneAcquisition, CoarsePathEndsInTheSimulatedCoarseState) {
+TEST(SceneAcquisition, SurfacePathsEndInTheSimulatedCoarseAndFineStates) {
   const auto o = tiny();
   const acquisition::SceneAcquisition acq(o);
+  using Resolution = acquisition::SceneAcquisition::Resolution;
   acquisition::PlanEntry e;
   e.point = Eigen::Vector3d(0.004, 0.003, 0.02);
   e.depth = 0.002;
   e.drag = Eigen::Vector3d(0.0, 0.002, 0.0);
   std::string message;
-  const auto path = acq.coarsePath(e, o.solve.indentSteps, o.solve.dragSteps, &message);
-  ASSERT_EQ(path.size(), static_cast<std::size_t>(1 + o.solve.indentSteps + o.solve.dragSteps));
+  const auto coarse = acq.surfacePath(Resolution::Coarse, e, o.solve.indentSteps, o.solve.dragSteps, &message);
   EXPECT_TRUE(message.empty()) << message;
-  EXPECT_EQ(path.front(), acq.fineSurface().vertices);
-  EXPECT_LT((path.back() - acq.simulate(e).coarseOnFine).cwiseAbs().maxCoeff(), 1e-9);
-  // The surface under the tool goes down monotonically while indenting.
+  const auto fine = acq.surfacePath(Resolution::Fine, e, o.solve.indentSteps, o.solve.dragSteps, &message);
+  EXPECT_TRUE(message.empty()) << message;
+  for (const auto* path : {&coarse, &fine}) {
+    ASSERT_EQ(path->size(), static_cast<std::size_t>(1 + o.solve.indentSteps + o.solve.dragSteps));
+    EXPECT_EQ(path->front(), acq.fineSurface().vertices);
+  }
+  const acquisition::InteractionResult simulated = acq.simulate(e);
+  EXPECT_LT((coarse.back() - simulated.coarseOnFine).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((fine.back() - simulated.fine).cwiseAbs().maxCoeff(), 1e-9);
+  // The two models differ (else the fine truth beside the enrichment would show nothing), and the surface
+  // under the tool goes down monotonically while indenting in both.
+  EXPECT_GT((fine.back() - coarse.back()).cwiseAbs().maxCoeff(), 1e-5);
   Eigen::Index under = 0;
   (acq.fineSurface().vertices.colwise() - e.point).colwise().squaredNorm().minCoeff(&under);
-  for (int step = 1; step <= o.solve.indentSteps; ++step)
-    EXPECT_LT(path[static_cast<std::size_t>(step)](2, under), path[static_cast<std::size_t>(step - 1)](2, under) - 1e-4);
+  for (const auto* path : {&coarse, &fine})
+    for (int step = 1; step <= o.solve.indentSteps; ++step)
+      EXPECT_LT((*path)[static_cast<std::size_t>(step)](2, under), (*path)[static_cast<std::size_t>(step - 1)](2, under) - 1e-4);
   e.drag.setZero();
-  EXPECT_EQ(acq.coarsePath(e, 3, 5).size(), 4u);  // no drag, no drag steps
-  EXPECT_THROW(acq.coarsePath(e, 0, 1), InvalidInputError);
+  EXPECT_EQ(acq.surfacePath(Resolution::Fine, e, 3, 5).size(), 4u);  // no drag, no drag steps
+  EXPECT_THROW(acq.surfacePath(Resolution::Coarse, e, 0, 1), InvalidInputError);
 }
 
 TEST(SceneAcquisition, PlanPointsAreProjectedOntoTheSurfaceAndBadOnesRefusedBeforeWriting) {
