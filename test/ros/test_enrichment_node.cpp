@@ -194,6 +194,45 @@ TEST_F(EnrichmentNodeTest, MarkersForSubscribersAndDiagnostics) {
   EXPECT_TRUE(waitFor([&] { return diagnostics != nullptr; }, 5.0)) << "no /diagnostics from the node";
 }
 
+// The test launch sets ~marker_fine_offset: the fine truth of a state (fine_state, its stamp) is drawn beside
+// it; one of another size is not, and the node goes on.
+TEST_F(EnrichmentNodeTest, FineTruthOfTheDrawnStateBesideItAndAWrongSizedOneLeftOut) {
+  std::mutex mutex;
+  std::vector<visualization_msgs::MarkerArrayConstPtr> arrays;
+  auto markerSub = nh_.subscribe<visualization_msgs::MarkerArray>("enrichment/markers", 4, [&](const visualization_msgs::MarkerArrayConstPtr& m) {
+    std::lock_guard<std::mutex> lock(mutex);
+    arrays.push_back(m);
+  });
+  ros::Publisher finePub = nh_.advertise<sensor_msgs::PointCloud2>("fine_state", 2);
+  ASSERT_TRUE(waitFor([&] { return finePub.getNumSubscribers() > 0; }, 5.0)) << "the node does not listen to fine_state";
+  auto drawnWith = [&](const ros::Time& stamp, bool fine) {
+    return waitFor([&] {
+      std::lock_guard<std::mutex> lock(mutex);
+      for (const auto& array : arrays) {
+        if (array->markers.empty() || array->markers[0].header.stamp != stamp) continue;
+        const bool drawn = std::any_of(array->markers.begin(), array->markers.end(), [&](const visualization_msgs::Marker& m) {
+          return m.ns == "fine_surface" && m.id == 0 && m.points.size() == 3u * static_cast<std::size_t>(rest_.numTriangles());
+        });
+        if (drawn == fine) return true;
+      }
+      return false;
+    }, 5.0);
+  };
+  sensor_msgs::PointCloud2 state = goodState();
+  Eigen::Matrix3Xf fine = rest_.vertices.cast<float>();
+  fine.row(2).array() -= 0.001f;
+  finePub.publish(cloudFromPositions(fine, state.header));
+  ros::WallDuration(0.1).sleep();
+  ASSERT_TRUE(roundTrip(state));
+  EXPECT_TRUE(drawnWith(state.header.stamp, true)) << "the fine truth of the drawn state is not in the markers";
+  sensor_msgs::PointCloud2 next = goodState();
+  finePub.publish(cloudFromPositions(fine.leftCols(fine.cols() - 1), next.header));
+  ros::WallDuration(0.1).sleep();
+  ASSERT_TRUE(roundTrip(next));
+  EXPECT_TRUE(drawnWith(next.header.stamp, false)) << "a fine state of another size must not be drawn";
+  ASSERT_TRUE(roundTrip(goodState())) << "the node must keep running";
+}
+
 TEST_F(EnrichmentNodeTest, SegmentSitesLabelsEveryVertexSymmetricallyAndRejectsBadRequests) {
   ASSERT_TRUE(ros::service::waitForService("enrichment/segment_sites", 10000));
   de::SegmentSites call;
