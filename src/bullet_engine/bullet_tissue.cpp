@@ -23,6 +23,8 @@
 #include <utility>
 
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/mesh/surface_projection.hpp"
+#include "deformation_enrichment/mesh/tet_surface.hpp"
 
 namespace deformation_enrichment::bullet_engine {
 
@@ -131,6 +133,7 @@ struct BulletTissue::Impl {
   mesh::TetMesh rest;
   BulletTissueOptions options;
   Eigen::Vector3d park = Eigen::Vector3d::Zero();
+  std::unique_ptr<mesh::SurfaceProjector> boundary;  // the rest body's surface: where a parked tool enters
   Eigen::Vector3d target = Eigen::Vector3d::Zero();  // commanded tool centre (m)
   double diagonal = 0.0;                              // of the rest bounding box (m)
   // Bullet length units per metre, a power of two (so scaling is exact): the tool radius is about one unit.
@@ -189,6 +192,7 @@ BulletTissue::Impl::Impl(const mesh::TetMesh& mesh, const std::vector<int>& fixe
   // Above the body by more than its size: no contact.
   park = 0.5 * (lo + hi) + (diagonal + 4.0 * o.toolRadius) * Eigen::Vector3d::UnitZ();
   target = park;
+  boundary = std::make_unique<mesh::SurfaceProjector>(mesh::extractSurface(rest).surface);
   makeWorld();
   makeBody(fixed);
   makeTool();
@@ -368,6 +372,13 @@ BulletTissue::~BulletTissue() = default;
 
 void BulletTissue::setToolCentre(const Eigen::Vector3d& centre) {
   if (!centre.allFinite()) throw InvalidInputError("BulletTissue: the tool centre is not finite");
+  if (centre != impl_->park && impl_->toolCentre() == impl_->park) {
+    // A parked tool enters at once, two radii out along the surface normal nearest the command, and moves in
+    // from there: the way from the park position above the body to a contact beside or under an organ crosses
+    // the tissue and would drag it along (the CGAL liver: states 6 cm RMS from rest before contact).
+    const mesh::SurfacePoint nearest = impl_->boundary->project(centre);
+    impl_->placeTool(nearest.point + 2.0 * impl_->options.toolRadius * nearest.normal, /*jump=*/true);
+  }
   impl_->target = centre;
   impl_->idle = impl_->idle && centre == impl_->park;
 }

@@ -58,8 +58,9 @@ public:
   BulletTissue(const BulletTissue&) = delete;
   BulletTissue& operator=(const BulletTissue&) = delete;
 
-  /// Commands the tool sphere's centre (m); the sphere moves there over the next steps (toolSpeed).
-  /// Throws InvalidInputError for a non-finite centre.
+  /// Commands the tool sphere's centre (m); the sphere moves there over the next steps (toolSpeed). A parked
+  /// tool enters at once two radii out along the rest surface's normal at the point nearest `centre`, so it
+  /// does not sweep through the body on its way. Throws InvalidInputError for a non-finite centre.
   void setToolCentre(const Eigen::Vector3d& centre);
   /// Moves the tool far from the body at once (no contact).
   void parkTool();

@@ -78,6 +78,20 @@ TEST(BulletTissue, AToolClearOfTheBodyLeavesTheTissueAtRest) {
   EXPECT_EQ(tissue.divergences(), 0);
 }
 
+// A command under the body, clear of it: the parked tool enters below the bottom face nearest the command and
+// touches nothing; from the park position above it would have swept through the slab.
+TEST(BulletTissue, AParkedToolComesInFromTheSideOfItsCommand) {
+  const Slab& s = slab();
+  BulletTissue tissue(s.coarse.mesh, s.coarse.fixedVertices, s.options());
+  const double bottom = s.coarse.mesh.vertices.row(2).minCoeff();
+  const Eigen::Vector3d under(0.0, 0.0, bottom - 2.0 * s.scene.tool.radius);
+  tissue.setToolCentre(under);
+  EXPECT_LT(tissue.toolCentre().z(), bottom) << "the tool must start below the body";
+  ASSERT_LE(settle(tissue, under, kSettledSpeed, kMaxSettleSteps), kMaxSettleSteps);
+  EXPECT_LE(largestDeviation(tissue.positions(), s.coarse.mesh.vertices), 1e-9);
+  EXPECT_EQ(tissue.divergences(), 0);
+}
+
 // The node under the contact goes down with the sphere, at least half the indentation (a tool that passed
 // through the surface would leave it near 0), and at most half a millimetre past it: the sphere rests on the
 // 1 cm faces around the node, tangent to them, so the node sits below the sphere's lowest point (0.36 mm
@@ -175,11 +189,10 @@ TEST(BulletTissue, TheToolFollowsItsCommandAtToolSpeed) {
   BulletTissueOptions o = s.options();
   BulletTissue tissue(s.coarse.mesh, s.coarse.fixedVertices, o);
   const Eigen::Vector3d centre = s.indentingCentre(kDepth);
-  tissue.setToolCentre(centre);
-  tissue.step();  // the way down to two radii above the body is a jump, then toolSpeed x timeStep a step
+  tissue.setToolCentre(centre);  // parked: it enters two radii above the surface point nearest the command
   const Eigen::Vector3d first = tissue.toolCentre();
   EXPECT_NEAR(first.z(), s.contact().z() + 2.0 * o.toolRadius, 1e-12);
-  tissue.step();
+  tissue.step();  // then toolSpeed x timeStep a step
   EXPECT_NEAR((tissue.toolCentre() - first).norm(), o.toolSpeed * o.timeStep, 1e-12);
 }
 
