@@ -94,14 +94,18 @@ public:
     worker_ = std::thread([this, &scene, entries = std::move(entries), indentSteps, dragSteps] {
       // Lowest priority (the solver's OpenMP threads, started here, inherit it): the states must keep their rate.
       setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 19);
-      for (std::size_t tap = 0; tap < entries.size() && !stop_; ++tap) {
-        std::string message;
-        auto path = scene.surfacePath(de::acquisition::SceneAcquisition::Resolution::Fine, entries[tap], indentSteps, dragSteps, &message);
-        if (!message.empty()) ROS_WARN("demo scene: fine solver, tap %zu: %s", tap, message.c_str());
-        std::lock_guard<std::mutex> lock(mutex_);
-        paths_[tap] = std::make_shared<const std::vector<Eigen::Matrix3Xd>>(std::move(path));
+      try {
+        for (std::size_t tap = 0; tap < entries.size() && !stop_; ++tap) {
+          std::string message;
+          auto path = scene.surfacePath(de::acquisition::SceneAcquisition::Resolution::Fine, entries[tap], indentSteps, dragSteps, &message);
+          if (!message.empty()) ROS_WARN("demo scene: fine solver, tap %zu: %s", tap, message.c_str());
+          std::lock_guard<std::mutex> lock(mutex_);
+          paths_[tap] = std::make_shared<const std::vector<Eigen::Matrix3Xd>>(std::move(path));
+        }
+        if (!stop_) ROS_INFO("demo scene: the fine truth of every tap is solved");
+      } catch (const std::exception& e) {
+        ROS_ERROR("demo scene: no fine truth for the taps not yet solved: %s", e.what());
       }
-      ROS_INFO("demo scene: the fine truth of every tap is solved");
     });
   }
   ~FineTruth() {
