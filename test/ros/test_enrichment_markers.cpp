@@ -166,6 +166,8 @@ TEST(EnrichmentMarkers, OffsetParametersAreVectorsOfThreeElseOff) {
   EXPECT_TRUE(de::ros_layer::readMarkerOptions(nh).fineOffset.isApprox(Eigen::Vector3d(0.0, 0.11, 0.0)));
   nh.setParam("marker_fine_offset", std::vector<double>{0.0, std::nan(""), 0.0});
   EXPECT_TRUE(de::ros_layer::readMarkerOptions(nh).fineOffset.isZero());
+  nh.setParam("marker_fine_offset", std::string("[0, 0.105, 0]"));  // what rosrun's _marker_fine_offset:=... gives
+  EXPECT_TRUE(de::ros_layer::readMarkerOptions(nh).fineOffset.isZero());
   nh.deleteParam("marker_fine_offset");
   EXPECT_EQ(de::ros_layer::readMarkerOptions(nh).color, de::ros_layer::MarkerOptions::Color::Displacement);
   nh.setParam("marker_color", "strain");

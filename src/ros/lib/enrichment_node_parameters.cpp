@@ -96,11 +96,14 @@ void readToolPoses(const ros::NodeHandle& nh, EnrichmentNodeOptions& p) {
 
 // Where a surface is drawn beside the enriched one: [x, y, z] in metres; zero (not drawn) when absent or bad.
 Eigen::Vector3d markerOffset(const ros::NodeHandle& privateNh, const std::string& name, const char* surface) {
+  if (!privateNh.hasParam(name)) return Eigen::Vector3d::Zero();
   std::vector<double> offset;
-  if (!privateNh.getParam(name, offset)) return Eigen::Vector3d::Zero();
-  if (offset.size() == 3 && std::all_of(offset.begin(), offset.end(), [](double v) { return std::isfinite(v); }))
+  if (privateNh.getParam(name, offset) && offset.size() == 3 &&
+      std::all_of(offset.begin(), offset.end(), [](double v) { return std::isfinite(v); }))
     return Eigen::Vector3d(offset[0], offset[1], offset[2]);
-  ROS_ERROR("~%s must be [x, y, z] in metres (finite); not drawing %s", name.c_str(), surface);
+  // rosrun's _name:=[x, y, z] arrives as a string: roscpp parses only numbers and booleans there.
+  ROS_ERROR("~%s must be a list [x, y, z] in metres (finite; from rosrun: rosparam set first); not drawing %s", name.c_str(),
+            surface);
   return Eigen::Vector3d::Zero();
 }
 
