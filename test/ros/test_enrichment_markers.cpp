@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/ros/enrichment_markers.hpp"
 #include "deformation_enrichment/ros/enrichment_node_parameters.hpp"
 
@@ -114,6 +115,8 @@ TEST(EnrichmentMarkers, FineTruthBesideTheEnrichedOneColouredByTheEnrichedError)
   }
   // The bar stands right of the rightmost surface, the fine truth's.
   for (const auto& p : bar->points) EXPECT_GT(p.y, 0.01 + options.fineOffset.y());
+  const Eigen::Matrix3Xf tooFew = fine.leftCols(3);
+  EXPECT_THROW(de::ros_layer::enrichmentMarkers({}, rest, input, enriched, {}, options, &tooFew), de::InvalidInputError);
   // Without a truth, or without an offset, there is no fine surface.
   EXPECT_EQ(find(de::ros_layer::enrichmentMarkers({}, rest, input, enriched, {}, options), "fine_surface", 0), nullptr);
   EXPECT_EQ(find(de::ros_layer::enrichmentMarkers({}, rest, input, enriched, {}, de::ros_layer::MarkerOptions(), &fine),

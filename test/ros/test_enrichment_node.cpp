@@ -195,7 +195,7 @@ TEST_F(EnrichmentNodeTest, MarkersForSubscribersAndDiagnostics) {
 }
 
 // The test launch sets ~marker_fine_offset: the fine truth of a state (fine_state, its stamp) is drawn beside
-// it; one of another size is not, and the node goes on.
+// it; one of another size or in another frame is not, is counted in /diagnostics, and the node goes on.
 TEST_F(EnrichmentNodeTest, FineTruthOfTheDrawnStateBesideItAndAWrongSizedOneLeftOut) {
   std::mutex mutex;
   std::vector<visualization_msgs::MarkerArrayConstPtr> arrays;
@@ -230,6 +230,16 @@ TEST_F(EnrichmentNodeTest, FineTruthOfTheDrawnStateBesideItAndAWrongSizedOneLeft
   ros::WallDuration(0.1).sleep();
   ASSERT_TRUE(roundTrip(next));
   EXPECT_TRUE(drawnWith(next.header.stamp, false)) << "a fine state of another size must not be drawn";
+  EXPECT_FALSE(diagnosticValue("dropped fine_state: point count differs from the mesh state").empty())
+      << "the refused fine state must be counted in /diagnostics";
+  sensor_msgs::PointCloud2 third = goodState();
+  sensor_msgs::PointCloud2 elsewhere = cloudFromPositions(fine, third.header);
+  elsewhere.header.frame_id = "another_frame";
+  finePub.publish(elsewhere);
+  ros::WallDuration(0.1).sleep();
+  ASSERT_TRUE(roundTrip(third));
+  EXPECT_TRUE(drawnWith(third.header.stamp, false)) << "a fine state in another frame must not be drawn";
+  EXPECT_FALSE(diagnosticValue("dropped fine_state: frame differs from the mesh state's").empty());
   ASSERT_TRUE(roundTrip(goodState())) << "the node must keep running";
 }
 

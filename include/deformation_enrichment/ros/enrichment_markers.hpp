@@ -31,7 +31,8 @@ struct MarkerOptions {
 /// options.fineOffset is not zero and `fineTruth` is given: |enriched - fine truth| per vertex on the
 /// displacement scale), colour_bar, contacts, contact_normals; the enriched surface's triangle list is the
 /// first marker. With strain colours and a rest triangle too degenerate for a deformation gradient, the
-/// displacement is shown instead (logged).
+/// displacement is shown instead (logged). Throws InvalidInputError for a fine truth of another size than
+/// `enriched`.
 visualization_msgs::MarkerArray enrichmentMarkers(const std_msgs::Header& header, const mesh::TriangleMesh& rest,
                                                   const Eigen::Matrix3Xf& input, const Eigen::Matrix3Xf& enriched,
                                                   const std::vector<TrackedContact>& contacts,

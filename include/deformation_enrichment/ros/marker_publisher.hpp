@@ -15,6 +15,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <vector>
 
 #include "deformation_enrichment/enrichment/enrichment_session.hpp"
@@ -28,9 +29,14 @@ public:
   /// The rest surface a state of `vertices` points lies on (null: none).
   using RestLookup = std::function<std::shared_ptr<const enrichment::RestSurface>(Eigen::Index vertices)>;
 
+  /// Counts and logs a refused input: (input, reason, detail), as the node's /diagnostics do.
+  using Reject = std::function<void(const std::string&, const std::string&, const std::string&)>;
+
   /// Advertises ~markers on `privateNh` and draws at `rate` Hz (0: never); subscribes to fine_state on `nh`
-  /// when options.fineOffset is not zero.
-  MarkerPublisher(ros::NodeHandle nh, ros::NodeHandle privateNh, double rate, MarkerOptions options, RestLookup rest);
+  /// when options.fineOffset is not zero. A fine state that cannot be the drawn state's truth (another frame,
+  /// point count, a non-finite point, a broken cloud) goes to `reject`, once for each draw that finds it.
+  MarkerPublisher(ros::NodeHandle nh, ros::NodeHandle privateNh, double rate, MarkerOptions options, RestLookup rest,
+                  Reject reject);
   ~MarkerPublisher();
 
   /// The state to draw next: its input, what was published for it, and its contacts. Thread-safe.
@@ -49,6 +55,7 @@ private:
   ros::Subscriber fineSubscriber_;
   MarkerOptions options_;
   RestLookup rest_;
+  Reject reject_;
   std::mutex mutex_;  // guards the kept state below
   sensor_msgs::PointCloud2ConstPtr input_, output_;
   std::vector<TrackedContact> touching_;

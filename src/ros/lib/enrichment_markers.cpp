@@ -184,6 +184,9 @@ visualization_msgs::MarkerArray enrichmentMarkers(const std_msgs::Header& header
                                     [](Eigen::Index, int) { return rgb(0.7, 0.7, 0.7); }));
     array.markers.push_back(text(header, "coarse_surface", 1, labelAt + options.coarseOffset, "coarse input"));
   }
+  if (fineTruth && fineTruth->cols() != enriched.cols())
+    throw InvalidInputError("enrichment markers: a fine truth of " + std::to_string(fineTruth->cols()) + " points for a state of " +
+                            std::to_string(enriched.cols()));
   const bool fineDrawn = !options.fineOffset.isZero() && fineTruth;
   if (fineDrawn) {
     const Eigen::VectorXf error = (enriched - *fineTruth).colwise().norm();

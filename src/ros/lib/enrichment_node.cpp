@@ -41,8 +41,10 @@ EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
       diagnostic_updater::FrequencyStatusParam(&parameters_.minRate, &parameters_.maxRate, 0.1, 10));
   enrichedPub_ = nh_.advertise<sensor_msgs::PointCloud2>("enriched_mesh_state", 2);
   statusPub_ = privateNh_.advertise<EnrichmentStatus>("status", 10);
-  markers_ = std::make_unique<MarkerPublisher>(nh_, privateNh_, parameters_.markerRate, parameters_.markers,
-                                               [this](Eigen::Index vertices) { return session_->restFor(vertices); });
+  markers_ = std::make_unique<MarkerPublisher>(
+      nh_, privateNh_, parameters_.markerRate, parameters_.markers,
+      [this](Eigen::Index vertices) { return session_->restFor(vertices); },
+      [this](const std::string& input, const std::string& reason, const std::string& detail) { reject(input, reason, detail); });
   // No transport hints: nodelets then receive the publisher's shared pointer (zero copy).
   restMeshSub_ = nh_.subscribe("rest_mesh", 1, &EnrichmentNode::onRestMesh, this);
   meshStateSub_ = nh_.subscribe("mesh_state", 2, &EnrichmentNode::onMeshState, this);

@@ -1,10 +1,10 @@
 #include "deformation_enrichment/ros/marker_publisher.hpp"
 
-#include <ros/console.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include <algorithm>
 #include <optional>
+#include <string>
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/ros/conversions.hpp"
@@ -15,15 +15,28 @@ namespace {
 // needs only those that arrived since the last one.
 constexpr std::size_t kFineStatesKept = 32;
 
-// A fine state's positions, when it is a usable truth for a state of `vertices` points (else logged).
-std::optional<Eigen::Matrix3Xf> fineTruth(const sensor_msgs::PointCloud2& fine, Eigen::Index vertices) {
+// A fine state's positions, when it is a usable truth for `state` (`vertices` points); else why not.
+std::optional<Eigen::Matrix3Xf> fineTruth(const sensor_msgs::PointCloud2& fine, const std_msgs::Header& state, Eigen::Index vertices,
+                                          std::string& reason, std::string& detail) {
+  if (fine.header.frame_id != state.frame_id) {
+    reason = "frame differs from the mesh state's";
+    detail = "'" + fine.header.frame_id + "' for a state in '" + state.frame_id + "'";
+    return std::nullopt;
+  }
   try {
     Eigen::Matrix3Xf truth = positionsFromCloud(fine);
-    if (truth.cols() == vertices && truth.allFinite()) return truth;
-    ROS_ERROR_THROTTLE(10.0, "fine_state of %ld points (finite: %s) for a mesh state of %ld: not drawing the fine truth",
-                       static_cast<long>(truth.cols()), truth.allFinite() ? "yes" : "no", static_cast<long>(vertices));
+    if (truth.cols() != vertices) {
+      reason = "point count differs from the mesh state";
+      detail = std::to_string(truth.cols()) + " points for a state of " + std::to_string(vertices);
+    } else if (!truth.allFinite()) {
+      reason = "non-finite point";
+      detail = "not drawing the fine truth of this state";
+    } else {
+      return truth;
+    }
   } catch (const Error& e) {
-    ROS_ERROR_THROTTLE(10.0, "fine_state unreadable, not drawing the fine truth: %s", e.what());
+    reason = "invalid point cloud";
+    detail = e.what();
   }
   return std::nullopt;
 }
@@ -31,8 +44,8 @@ std::optional<Eigen::Matrix3Xf> fineTruth(const sensor_msgs::PointCloud2& fine, 
 }  // namespace
 
 MarkerPublisher::MarkerPublisher(ros::NodeHandle nh, ros::NodeHandle privateNh, double rate, MarkerOptions options,
-                                 RestLookup rest)
-    : options_(std::move(options)), rest_(std::move(rest)) {
+                                 RestLookup rest, Reject reject)
+    : options_(std::move(options)), rest_(std::move(rest)), reject_(std::move(reject)) {
   publisher_ = privateNh.advertise<visualization_msgs::MarkerArray>("markers", 1);
   if (rate <= 0.0) return;
   nh.setCallbackQueue(&queue_);
@@ -80,7 +93,12 @@ void MarkerPublisher::draw(const ros::TimerEvent&) {
   const Eigen::Matrix3Xf before = positionsFromCloud(*input), after = positionsFromCloud(*output);
   const std::shared_ptr<const enrichment::RestSurface> rest = rest_(before.cols());
   if (!rest) return;
-  const std::optional<Eigen::Matrix3Xf> truth = fine ? fineTruth(*fine, before.cols()) : std::nullopt;
+  std::optional<Eigen::Matrix3Xf> truth;
+  if (fine) {
+    std::string reason, detail;
+    truth = fineTruth(*fine, input->header, before.cols(), reason, detail);
+    if (!truth) reject_("fine_state", reason, detail);
+  }
   publisher_.publish(enrichmentMarkers(input->header, rest->geometry.surface, before, after, touching, options_,
                                        truth ? &*truth : nullptr));
 }
