@@ -77,6 +77,11 @@ target_compile_definitions(deformation_enrichment_geometry PRIVATE CGAL_USE_ZLIB
 find_library(GMP_LIBRARY gmp REQUIRED)
 find_library(MPFR_LIBRARY mpfr REQUIRED)
 target_link_libraries(deformation_enrichment_geometry PRIVATE ${MPFR_LIBRARY} ${GMP_LIBRARY})
+if(DE_SANITIZE)
+  # CGAL's surface repair compiles for over 6 minutes with clang's sanitizers at -O2 (under 1.5 at -O0) and
+  # would be the whole sanitized build's critical path; its tests run in seconds either way.
+  set_source_files_properties(${PROJECT_SOURCE_DIR}/src/mesh/surface_repair.cpp PROPERTIES COMPILE_OPTIONS -O0)
+endif()
 de_add_layer(descriptors deformation_enrichment_geometry)
 de_add_layer(runtime deformation_enrichment_descriptors ${OpenCV_LIBS})
 # urdfdom parses tool tips from robot_description (enrichment/tool_tip.cpp).

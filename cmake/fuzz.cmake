@@ -20,14 +20,19 @@ find_package(yaml-cpp REQUIRED)
 set(DE_FUZZ_SANITIZERS -fsanitize=address,undefined -fno-sanitize-recover=all)
 set(DE_FUZZ_FLAGS -O1 -g -fno-omit-frame-pointer -UNDEBUG -D_GLIBCXX_ASSERTIONS ${DE_FUZZ_SANITIZERS} -Wall -Wextra)
 
-# The loaders and what they use: mesh/ (OBJ, PLY, OFF, STL, TetGen, gmsh, VTK, MD2, point-cloud layout; PCL only
-# for writing), hermite/ + examples/ + scene_file/ (example sets and their provenance, scene files) and the
-# plan CSV.
-file(GLOB DE_FUZZ_CORE_SOURCES CONFIGURE_DEPENDS
-  ${PROJECT_SOURCE_DIR}/src/mesh/*.cpp ${PROJECT_SOURCE_DIR}/src/hermite/*.cpp ${PROJECT_SOURCE_DIR}/src/examples/*.cpp
-  ${PROJECT_SOURCE_DIR}/src/scene_file/*.cpp)
-list(APPEND DE_FUZZ_CORE_SOURCES
-  ${PROJECT_SOURCE_DIR}/src/acquisition/plan_io.cpp)
+# The loaders and the files they call into, no more (the link fails if a loader comes to need another):
+# mesh/ (OBJ, PLY, OFF, STL, TetGen, gmsh, VTK, MD2, point-cloud layout; PCL only for writing), hermite/ +
+# examples/ + scene_file/ (example sets and their provenance, scene files) and the plan CSV. The rest of
+# mesh/ (CGAL's surface repair alone compiles for over a minute) is left out for CI's time.
+set(DE_FUZZ_CORE_SOURCES "")
+foreach(source
+    mesh/gmsh_io mesh/md2_reader mesh/mesh_io mesh/obj_reader mesh/off_reader mesh/ply_reader
+    mesh/point_cloud_layout mesh/tet_collector mesh/tet_mesh mesh/tetgen_io mesh/triangle_mesh mesh/volume_mesh_io
+    mesh/vtk_io mesh/vtk_legacy_reader
+    hermite/hermite_basis hermite/moment_list hermite/multi_index hermite/symmetric_tensor
+    examples/example examples/example_set_io scene_file/scene_description scene_file/scene_yaml acquisition/plan_io)
+  list(APPEND DE_FUZZ_CORE_SOURCES ${PROJECT_SOURCE_DIR}/src/${source}.cpp)
+endforeach()
 
 add_library(de_fuzz_core STATIC ${DE_FUZZ_CORE_SOURCES})
 target_compile_options(de_fuzz_core PRIVATE ${DE_FUZZ_FLAGS} -fsanitize=fuzzer-no-link)
