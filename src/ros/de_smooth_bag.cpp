@@ -17,6 +17,7 @@
 #include "deformation_enrichment/shape_space/blas_threads.hpp"
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
 #include "deformation_enrichment/shape_space/smoothing_flow.hpp"
+#include "../tools/command_line.hpp"
 
 namespace de = deformation_enrichment;
 namespace ss = de::shape_space;
@@ -88,7 +89,7 @@ int main(int argc, char** argv) {
   app.add_option("--restoring", restoring, "restoring force rho in [0, 1)");
   app.add_flag("--closed", closed, "periodic sequence");
   app.add_option("--subspace", subspace, "reduced mode with this many PCA directions (0: full space)");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exitCode = deformation_enrichment::tools::parseCommandLine(app, argc, argv)) return *exitCode;
   ss::preferSingleThreadedBlas();
   if (topologyFile.empty() == topologyTopic.empty()) {
     std::fprintf(stderr, "de_smooth_bag: give exactly one of --topology and --topology-topic\n");

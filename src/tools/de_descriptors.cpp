@@ -22,6 +22,7 @@
 #include "deformation_enrichment/descriptors/evaluator_loading.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "descriptor_cli.hpp"
+#include "command_line.hpp"
 
 using namespace deformation_enrichment;
 using Json = nlohmann::ordered_json;
@@ -107,7 +108,7 @@ int main(int argc, char** argv) {
   app.add_option("--deformation-order", deformationOrder, "deformation descriptor order (1..4)")->capture_default_str();
   app.add_option("--deformed", deformedPath, "D.node with displaced positions of the same vertices");
   app.add_flag("--json", json, "print one JSON object (otherwise a short text summary)");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exitCode = deformation_enrichment::tools::parseCommandLine(app, argc, argv)) return *exitCode;
 
   try {
     descriptors::DescriptorOptions options;

@@ -24,6 +24,7 @@
 #ifdef DE_COARSE_BAG
 #include "deformation_enrichment/ros/coarse_bag.hpp"
 #endif
+#include "command_line.hpp"
 
 using namespace deformation_enrichment;
 using nlohmann::json;
@@ -35,7 +36,7 @@ struct EvaluateOptions {
   std::vector<std::string> alsoSets;
   bool noFit = false, correlationOnly = false, curves = false, noGain = false, open = false;
   const enrichment::ContactEnricherOptions defaults;
-  double gain = 1.0, rimBand = defaults.rimBand, sigmaRho = 0.0, sigmaU = 0.0, shellThickness = 0.0;
+  double minConfidence = 0.0, gain = 1.0, rimBand = defaults.rimBand, sigmaRho = 0.0, sigmaU = 0.0, shellThickness = 0.0;
   double lambda = enrichment::RbfInterpolator::kDefaultRegularisation;
   int repetitions = 5, heldOut = 8;
   unsigned seed = 1;
@@ -62,6 +63,8 @@ void addOptions(CLI::App& app, EvaluateOptions& s) {
                                      "eq. 15 weights + RBF)")->capture_default_str();
   app.add_option("--lambda", s.lambda, "RBF regularisation lambda of (K^2 + lambda^2 I)^-1 K")->check(CLI::PositiveNumber);
   app.add_option("--gain", s.gain, "stamp gain");
+  app.add_option("--min-confidence", s.minConfidence, "detail fades from full at twice this blend confidence to none at it "
+                 "(the node's ~min_confidence; 0: no gate)")->check(CLI::Range(0.0, 1.0));
   app.add_option("--rim-band", s.rimBand, "StampMapper rim band in [0, 1)");
   app.add_flag("--correlation-only", s.correlationOnly, "the paper's pure correlation (no |mu| / |mu[i]| stamp scaling)");
   app.add_option("--sigma-rho", s.sigmaRho, "fixed kernel width sigma_rho (with --sigma-u: no leave-one-out fit)");
@@ -177,6 +180,7 @@ void prepare(Evaluation& ev) {
   // The evaluation scene's surface, described as the set's examples were.
   ev.options = s.defaults;
   ev.options.gain.stampGain = s.gain;
+  ev.options.gain.minConfidence = s.minConfidence;
   ev.options.rimBand = s.rimBand;
   ev.options.magnitudeAware = !s.correlationOnly;
   ev.options = enrichment::optionsFor(ev.set, ev.options);
@@ -388,7 +392,7 @@ int main(int argc, char** argv) {
   CLI::App app{"Held-out error of coarse vs enriched surfaces against the fine simulation, on any scene"};
   Evaluation ev;
   addOptions(app, ev.settings);
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exitCode = deformation_enrichment::tools::parseCommandLine(app, argc, argv)) return *exitCode;
   try {
     std::cout << evaluate(ev).dump(2) << std::endl;
   } catch (const std::exception& e) {

@@ -13,6 +13,7 @@
 #include "deformation_enrichment/acquisition/fine_convergence.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/number_parsing.hpp"
+#include "command_line.hpp"
 
 using namespace deformation_enrichment;
 using nlohmann::json;
@@ -59,7 +60,7 @@ int main(int argc, char** argv) {
   app.add_option("--levels", levels, "tet-count factors over the scene's fine model, ascending from 1")->capture_default_str();
   app.add_option("--held-out", count, "random held-out interactions")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--seed", seed, "seed of the random held-out interactions")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exitCode = deformation_enrichment::tools::parseCommandLine(app, argc, argv)) return *exitCode;
   try {
     const scene_file::SceneDescription description = scene_file::readSceneFile(scene_file::findSceneFile(scene));
     std::cerr << "held-out contacts: " << count << " random, seed " << seed << "\n";

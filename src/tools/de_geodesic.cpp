@@ -18,6 +18,7 @@
 #include "deformation_enrichment/shape_space/geodesic.hpp"
 #include "deformation_enrichment/shape_space/shape_sequence.hpp"
 #include "shape_space_cli.hpp"
+#include "command_line.hpp"
 
 namespace de = deformation_enrichment;
 namespace ss = deformation_enrichment::shape_space;
@@ -40,7 +41,7 @@ int main(int argc, char** argv) {
   app.add_option("--enrichment-rounds", rounds, "reduced mode: subspace enrichment rounds per level");
   app.add_flag("--flow", useFlow, "use the smoothing flow ([Brandt16]) instead of minimising eq. 4 directly");
   app.add_option("--tau", tau, "flow step size in (0, 1] (--flow)");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exitCode = deformation_enrichment::tools::parseCommandLine(app, argc, argv)) return *exitCode;
   ss::preferSingleThreadedBlas();
 
   try {

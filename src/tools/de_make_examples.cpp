@@ -14,6 +14,7 @@
 #ifdef DE_COARSE_BAG
 #include "deformation_enrichment/ros/coarse_bag.hpp"
 #endif
+#include "command_line.hpp"
 
 using namespace deformation_enrichment;
 
@@ -63,7 +64,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"volume", "average"}));
   app.add_option("--tool-model", toolModel, "penalty (smooth footprint springs) or dirichlet (vertices under the tip)")
       ->check(CLI::IsMember({"penalty", "dirichlet"}));
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exitCode = deformation_enrichment::tools::parseCommandLine(app, argc, argv)) return *exitCode;
   try {
     const auto start = std::chrono::steady_clock::now();
     const acquisition::Shard shard = parseShard(shardText);

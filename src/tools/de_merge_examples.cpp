@@ -9,6 +9,7 @@
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/examples/example_set_io.hpp"
 #include "deformation_enrichment/scene_file/scene_description.hpp"
+#include "command_line.hpp"
 
 using namespace deformation_enrichment;
 
@@ -18,7 +19,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> shards;
   app.add_option("--output", output, "merged example set directory")->required();
   app.add_option("shards", shards, "shard directories")->required();
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exitCode = deformation_enrichment::tools::parseCommandLine(app, argc, argv)) return *exitCode;
   try {
     examples::ExampleSet merged;
     std::string provenance;

@@ -23,6 +23,7 @@
 #include "deformation_enrichment/mesh/surface_report.hpp"
 #include "deformation_enrichment/mesh/tetgen_io.hpp"
 #include "deformation_enrichment/mesh/tetrahedralisation.hpp"
+#include "command_line.hpp"
 
 using namespace deformation_enrichment;
 using Json = nlohmann::ordered_json;
@@ -45,7 +46,7 @@ int main(int argc, char** argv) {
   app.add_option("--sigma", surfaceOptions.smoothingSigma, "Gaussian smoothing of the label field, metres")->capture_default_str();
   app.add_option("--min-label", surfaceOptions.minLabel, "labels >= this are the object")->capture_default_str();
   app.add_flag("--fine", fine, "also write the fine model tetgen -pqY makes of the display surface");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exitCode = deformation_enrichment::tools::parseCommandLine(app, argc, argv)) return *exitCode;
 
   try {
     std::filesystem::create_directories(output);

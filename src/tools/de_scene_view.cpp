@@ -15,6 +15,7 @@
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/scene_file/scene_description.hpp"
 #include "deformation_enrichment/scenes/scene_models.hpp"
+#include "command_line.hpp"
 
 using namespace deformation_enrichment;
 
@@ -24,7 +25,7 @@ int main(int argc, char** argv) {
   app.add_option("--scene", sceneName, "shipped scene name or scene file (.yaml)")->required();
   app.add_option("--rviz", templatePath, "rviz config to copy (its orbit view's angles are kept)")->required()->check(CLI::ExistingFile);
   app.add_option("--output", outputPath, "the rviz config to write")->required();
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exitCode = deformation_enrichment::tools::parseCommandLine(app, argc, argv)) return *exitCode;
   try {
     const scenes::SceneGeometry geometry = scenes::sceneGeometry(scene_file::readSceneFile(scene_file::findSceneFile(sceneName)));
     const Eigen::Vector3d lo = geometry.surface.vertices.rowwise().minCoeff(), hi = geometry.surface.vertices.rowwise().maxCoeff();

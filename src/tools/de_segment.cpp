@@ -13,6 +13,7 @@
 #include "descriptor_cli.hpp"
 #include "deformation_enrichment/descriptors/site_segmentation.hpp"
 #include "deformation_enrichment/error.hpp"
+#include "command_line.hpp"
 
 using namespace deformation_enrichment;
 using Json = nlohmann::ordered_json;
@@ -26,7 +27,7 @@ int main(int argc, char** argv) {
   app.add_option("--clusters", clusters, "number of clusters k")->capture_default_str();
   app.add_option("--restarts", restarts, "deterministic k-means++ restarts")->capture_default_str();
   app.add_option("--output", outputPath, "write the JSON here instead of stdout");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exitCode = deformation_enrichment::tools::parseCommandLine(app, argc, argv)) return *exitCode;
 
   try {
     const descriptors::LoadedObject object = cli.load();

@@ -20,6 +20,7 @@
 #include "deformation_enrichment/mesh/tetgen_io.hpp"
 #include "deformation_enrichment/scenes/procedural_scene.hpp"
 #include "deformation_enrichment/acquisition/tool_loading.hpp"
+#include "command_line.hpp"
 
 using namespace deformation_enrichment;
 using nlohmann::json;
@@ -245,7 +246,7 @@ int main(int argc, char** argv) {
   CLI::App app{"Quasi-static Stable Neo-Hookean simulation of a tool indenting / dragging a soft-tissue scene"};
   Options o;
   addOptions(app, o);
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exitCode = deformation_enrichment::tools::parseCommandLine(app, argc, argv)) return *exitCode;
   try {
     const std::optional<double> thickness = o.skinThicknessOption->count() ? std::optional<double>(o.skinThickness) : std::nullopt;
     const std::optional<int> layers = o.skinLayersOption->count() ? std::optional<int>(o.skinLayers) : std::nullopt;

@@ -28,6 +28,7 @@
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
 #include "deformation_enrichment/shape_space/smoothing_flow.hpp"
 #include "shape_space_cli.hpp"
+#include "command_line.hpp"
 
 namespace de = deformation_enrichment;
 namespace ss = deformation_enrichment::shape_space;
@@ -144,7 +145,7 @@ int main(int argc, char** argv) {
   common.addTo(app, "reduced mode: ghost mesh vertices for the energy approximation (0 = off)",
                "symmetric averaging (eq. 1) instead of eq. 10");
   app.add_flag("--proportional", proportional, "proportion-preserving weights");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exitCode = deformation_enrichment::tools::parseCommandLine(app, argc, argv)) return *exitCode;
   ss::preferSingleThreadedBlas();
 
   try {

@@ -41,3 +41,12 @@ TEST(DeSimulateCli, DragWritesSurfacesAndLog) {
   EXPECT_EQ(WEXITSTATUS(run("--scene slab --cells 4 4 2 --point 0.5 0.5 --out " + out)), 1);
   std::filesystem::remove_all(out);
 }
+
+// Command-line errors exit 1 like any other input error of the tools (command_line.hpp), not with CLI11's
+// own codes (109 for an unknown option, 105 for a value out of range); --help exits 0.
+TEST(DeSimulateCli, CommandLineErrorsExitOne) {
+  ASSERT_TRUE(std::filesystem::exists(kTool)) << "de_simulate not found at " << kTool;
+  EXPECT_EQ(WEXITSTATUS(run("--no-such-option")), 1);
+  EXPECT_EQ(WEXITSTATUS(run("--scene slab --depth not-a-number")), 1);
+  EXPECT_EQ(WEXITSTATUS(run("--help >/dev/null")), 0);
+}
