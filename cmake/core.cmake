@@ -78,7 +78,7 @@ find_library(GMP_LIBRARY gmp REQUIRED)
 find_library(MPFR_LIBRARY mpfr REQUIRED)
 target_link_libraries(deformation_enrichment_geometry PRIVATE ${MPFR_LIBRARY} ${GMP_LIBRARY})
 if(DE_SANITIZE)
-  # CGAL's surface repair compiles for over 6 minutes with clang's sanitizers at -O2 (under 1.5 at -O0) and
+  # CGAL's surface repair compiles for over 6 minutes with clang's sanitizers at -O2 (86 s at -O0) and
   # would be the whole sanitized build's critical path; its tests run in seconds either way.
   set_source_files_properties(${PROJECT_SOURCE_DIR}/src/mesh/surface_repair.cpp PROPERTIES COMPILE_OPTIONS -O0)
 endif()
