@@ -23,6 +23,11 @@ find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse)
 find_library(CHOLMOD_LIBRARY cholmod)
 
 set(DE_WARNINGS -Wall -Wextra)
+if(CMAKE_UNITY_BUILD AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+  # GCC takes a source included by a unity batch for a header and warns about every class that uses a type
+  # of the file's anonymous namespace; each source is still compiled exactly once.
+  list(APPEND DE_WARNINGS -Wno-subobject-linkage)
+endif()
 
 # Module folder -> library of its layer (read by de_link_core_for below).
 set(DE_LAYER_geometry mesh hermite kinematics numerics)
@@ -77,6 +82,11 @@ target_compile_definitions(deformation_enrichment_geometry PRIVATE CGAL_USE_ZLIB
 find_library(GMP_LIBRARY gmp REQUIRED)
 find_library(MPFR_LIBRARY mpfr REQUIRED)
 target_link_libraries(deformation_enrichment_geometry PRIVATE ${MPFR_LIBRARY} ${GMP_LIBRARY})
+# The sources that include CGAL are the heaviest to compile and each names its own kernel types: they stay
+# out of the unity batches (CMakeLists.txt), one translation unit each.
+set_source_files_properties(src/mesh/surface_repair.cpp src/mesh/edge_collapse.cpp src/mesh/label_image.cpp
+  src/mesh/mesh_io.cpp src/mesh/surface_projection.cpp src/bullet_engine/bullet_tissue.cpp
+  PROPERTIES SKIP_UNITY_BUILD_INCLUSION ON)
 if(DE_SANITIZE)
   # CGAL's surface repair compiles for over 6 minutes with clang's sanitizers at -O2 (86 s at -O0) and
   # would be the whole sanitized build's critical path; its tests run in seconds either way.

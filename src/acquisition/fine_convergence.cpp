@@ -9,12 +9,11 @@
 #include "deformation_enrichment/acquisition/scene_acquisition.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/barycentric_embedding.hpp"
+#include "deformation_enrichment/root_mean_square.hpp"
 #include "deformation_enrichment/scenes/fine_model.hpp"
 
 namespace deformation_enrichment::acquisition {
 namespace {
-
-double rms(const Eigen::Matrix3Xd& x) { return x.cols() ? std::sqrt(x.squaredNorm() / static_cast<double>(x.cols())) : 0.0; }
 
 void checkFactors(const std::vector<double>& factors, int count) {
   if (factors.empty() || factors.front() != 1.0)
@@ -100,9 +99,9 @@ FineConvergence fineConvergence(const scene_file::SceneDescription& scene, const
       l.seconds += r.fineSeconds;
       const Eigen::Matrix3Xd fine = mesh::interpolate(at, m.fine.mesh, r.fineNodes)(Eigen::all, scored[i]);
       if (level == 0) {
-        out.contacts.push_back({static_cast<long>(scored[i].size()), rms(r.coarseOnFine(Eigen::all, scored[i]) - fine), {}});
+        out.contacts.push_back({static_cast<long>(scored[i].size()), rootMeanSquare(r.coarseOnFine(Eigen::all, scored[i]) - fine), {}});
       } else {
-        out.contacts[i].changeRms.push_back(rms(fine - previous[i]));
+        out.contacts[i].changeRms.push_back(rootMeanSquare(fine - previous[i]));
       }
       previous[i] = fine;
       say("  interaction " + std::to_string(i + 1) + " of " + std::to_string(entries.size()) + ": fine solve " +

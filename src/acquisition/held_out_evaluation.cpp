@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/root_mean_square.hpp"
 
 namespace deformation_enrichment::acquisition {
 namespace {
@@ -20,14 +21,12 @@ Eigen::Matrix3Xd onVertices(const enrichment::SurfaceEnrichment& e, const std::v
   return out;
 }
 
-double rms(const Eigen::Matrix3Xd& x) { return x.cols() ? std::sqrt(x.squaredNorm() / static_cast<double>(x.cols())) : 0.0; }
-
 // The oracle's and the own stamp's RMS on one case: `missing` = fine - coarse on the scored vertices.
 void bounds(enrichment::ContactEnricher& enricher, const HeldOutCase& c, const enrichment::ContactDescription& d,
             const std::vector<int>& vertices, const Eigen::Matrix3Xd& missing, ContactScore& s) {
   enrichment::SurfaceEnrichment placed;
   enricher.placeStamp(d, c.ownStamp, c.ownStampRadius, c.ownStampLayers, placed);
-  s.ownStampRms = rms(missing - onVertices(placed, vertices));
+  s.ownStampRms = rootMeanSquare(missing - onVertices(placed, vertices));
   const std::vector<cv::Mat>& stamps = enricher.blender()->stamps();
   Eigen::MatrixXd E(missing.size(), static_cast<Eigen::Index>(stamps.size()));
   for (std::size_t i = 0; i < stamps.size(); ++i) {
@@ -111,8 +110,8 @@ HeldOutScore scoreHeldOut(enrichment::ContactEnricher& enricher, const std::vect
     const Eigen::Matrix3Xd left = missing - onVertices(result.enrichment, vertices);
     ContactScore s;
     s.vertices = static_cast<long>(vertices.size());
-    s.coarseRms = rms(missing);
-    s.enrichedRms = rms(left);
+    s.coarseRms = rootMeanSquare(missing);
+    s.enrichedRms = rootMeanSquare(left);
     s.coarseMax = s.vertices ? missing.colwise().norm().maxCoeff() : 0.0;
     s.enrichedMax = s.vertices ? left.colwise().norm().maxCoeff() : 0.0;
     s.outcome = result.contacts.at(0);

@@ -10,13 +10,12 @@
 #include "deformation_enrichment/elasticity/quasi_static_solver.hpp"
 #include "deformation_enrichment/elasticity/symmetric_eigen3.hpp"
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/seconds_since.hpp"
 
 namespace deformation_enrichment::elasticity {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 TetFem makeSnhBody(const CalculixModel& model, SnhVariant variant) {
   std::vector<StableNeoHookean> materials;

@@ -8,12 +8,12 @@
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/numerics/armijo_backtracking.hpp"
+#include "deformation_enrichment/seconds_since.hpp"
 
 namespace deformation_enrichment::elasticity {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 }  // namespace
 

@@ -7,13 +7,13 @@
 
 #include "deformation_enrichment/all_finite.hpp"
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/seconds_since.hpp"
 #include "deformation_enrichment/smooth_ramp.hpp"
 
 namespace deformation_enrichment::enrichment {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 void checkOptions(const ContactEnricherOptions& o) {
   if (!(o.stampRadius > 0.0) || !std::isfinite(o.stampRadius))

@@ -21,6 +21,7 @@
 #include "deformation_enrichment/mesh/surface_report.hpp"
 #include "deformation_enrichment/mesh/tet_surface.hpp"
 #include "deformation_enrichment/mesh/tetgen_io.hpp"
+#include "deformation_enrichment/seconds_since.hpp"
 
 extern char** environ;
 
@@ -188,10 +189,6 @@ TetgenRun runTetgen(const TriangleMesh& surface, const TetrahedraliseOptions& op
   if (options.keepSurface) checkKeptSurface(run.result.mesh, surface);
   validate(run.result.mesh);
   return run;
-}
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 /// Simplify, tetrahedralise; where a thin part folds through itself, simplify less.

@@ -15,8 +15,6 @@ using namespace deformation_enrichment;
 
 namespace {
 
-scene_file::SceneDescription tiny() { return de_test::tinySlab(); }
-
 acquisition::PlanEntry entry(double x, double y, double depth, double dx) {
   acquisition::PlanEntry e;
   e.point = Eigen::Vector3d(x, y, 0.02);
@@ -35,7 +33,7 @@ TEST(RecordedCoarse, TheOwnCoarseStateGivenBackGivesTheOwnExample) {
   // A recording of the package's own coarse model: descriptors and the fine half are the same, and the
   // volume stamp, whose coarse half inside the volume is fitted to the surface, places nearly the same
   // detail on the display surface (where the run time looks it up).
-  acquisition::SceneAcquisition acq(tiny());
+  acquisition::SceneAcquisition acq(de_test::tinySlab());
   const acquisition::PlanEntry e = entry(0.004, -0.003, 0.003, 0.002);
   const acquisition::InteractionResult own = acq.simulate(e);
   const acquisition::InteractionResult recorded = acq.simulate(e, own.coarseOnFine);
@@ -56,7 +54,7 @@ TEST(RecordedCoarse, TheOwnCoarseStateGivenBackGivesTheOwnExample) {
 }
 
 TEST(RecordedCoarse, StatesOfTheWrongSizeOrNotFiniteAreRefused) {
-  acquisition::SceneAcquisition acq(tiny());
+  acquisition::SceneAcquisition acq(de_test::tinySlab());
   const acquisition::PlanEntry e = entry(0.0, 0.0, 0.002, 0.0);
   const Eigen::Index n = acq.fineSurface().numVertices();
   try {
@@ -73,7 +71,7 @@ TEST(RecordedCoarse, StatesOfTheWrongSizeOrNotFiniteAreRefused) {
 }
 
 TEST(RecordedCoarse, ASetFromARecordingNamesItAndLeavesOutLinesWithoutAState) {
-  acquisition::SceneAcquisition acq(tiny());
+  acquisition::SceneAcquisition acq(de_test::tinySlab());
   acquisition::RecordedCoarse coarse;
   coarse.path = temporary("session.bag");
   write(coarse.path, "recording one");
@@ -108,7 +106,7 @@ TEST(RecordedCoarse, ASetFromARecordingNamesItAndLeavesOutLinesWithoutAState) {
 }
 
 TEST(RecordedCoarse, HeldOutInteractionsWithoutAStateAreRefusedBeforeAnySolve) {
-  acquisition::SceneAcquisition acq(tiny());
+  acquisition::SceneAcquisition acq(de_test::tinySlab());
   acquisition::RecordedCoarse coarse;
   coarse.path = "held_out.bag";
   coarse.plan = {entry(0.0, 0.0, 0.002, 0.0), entry(0.01, 0.005, 0.003, 0.0)};

@@ -19,15 +19,9 @@
 
 using namespace deformation_enrichment;
 
-namespace {
-
-scene_file::SceneDescription tiny() { return de_test::tinySlab(); }
-
-}  // namespace
-
 TEST(SceneAcquisition, IdenticalCoarseAndFineGiveAZeroStamp) {
   // Same resolution for both: the embedding is exact and d = fine - coarse must vanish.
-  auto o = tiny();
+  auto o = de_test::tinySlab();
   o.procedural->fineCells = o.procedural->coarseCells;
   o.procedural->fineSkinLayers = o.procedural->coarseSkinLayers;
   acquisition::SceneAcquisition acq(o);
@@ -47,7 +41,7 @@ TEST(SceneAcquisition, IdenticalCoarseAndFineGiveAZeroStamp) {
 }
 
 TEST(SceneAcquisition, FineDetailIsCapturedAndReproducedByTheEnricher) {
-  acquisition::SceneAcquisition acq(tiny());
+  acquisition::SceneAcquisition acq(de_test::tinySlab());
   acquisition::PlanEntry e;
   e.point = Eigen::Vector3d(0.002, -0.001, 0.02);
   e.depth = 0.003;
@@ -95,7 +89,7 @@ TEST(SceneAcquisition, FineDetailIsCapturedAndReproducedByTheEnricher) {
 
 TEST(SceneAcquisition, HeldOutScoresDependNeitherOnRepetitionsNorOnTheBounds) {
   // The bounds place the set's own stamps; the enrichment of the next case must not write into them.
-  acquisition::SceneAcquisition acq(tiny());
+  acquisition::SceneAcquisition acq(de_test::tinySlab());
   std::vector<acquisition::PlanEntry> plan(2), held(2);
   plan[0].point = Eigen::Vector3d(0.0, 0.0, 0.02), plan[0].depth = 0.003;
   plan[1].point = Eigen::Vector3d(0.012, 0.004, 0.02), plan[1].depth = 0.002, plan[1].drag = Eigen::Vector3d(0.003, 0.0, 0.0);
@@ -116,7 +110,7 @@ TEST(SceneAcquisition, HeldOutScoresDependNeitherOnRepetitionsNorOnTheBounds) {
 }
 
 TEST(SceneAcquisition, AcquiredSetResumesWithoutRecomputing) {
-  auto o = tiny();
+  auto o = de_test::tinySlab();
   acquisition::SceneAcquisition acq(o);
   std::vector<acquisition::PlanEntry> plan(2);
   plan[0].point = Eigen::Vector3d(0.0, 0.0, 0.02);
@@ -148,7 +142,7 @@ TEST(SceneAcquisition, AcquiredSetResumesWithoutRecomputing) {
 }
 
 TEST(SceneAcquisition, SurfacePathsEndInTheSimulatedCoarseAndFineStates) {
-  const auto o = tiny();
+  const auto o = de_test::tinySlab();
   const acquisition::SceneAcquisition acq(o);
   using Resolution = acquisition::SceneAcquisition::Resolution;
   acquisition::PlanEntry e;
@@ -181,7 +175,7 @@ TEST(SceneAcquisition, SurfacePathsEndInTheSimulatedCoarseAndFineStates) {
 }
 
 TEST(SceneAcquisition, PlanPointsAreProjectedOntoTheSurfaceAndBadOnesRefusedBeforeWriting) {
-  const acquisition::SceneAcquisition acq(tiny());
+  const acquisition::SceneAcquisition acq(de_test::tinySlab());
   acquisition::PlanEntry e;
   e.point = Eigen::Vector3d(0.004, 0.003, 0.025);  // 5 mm above the top
   e.depth = 0.002;
@@ -198,14 +192,14 @@ TEST(SceneAcquisition, PlanPointsAreProjectedOntoTheSurfaceAndBadOnesRefusedBefo
   bottom.point.z() = -0.001;
   for (const auto& bad : {far, bottom}) {
     EXPECT_THROW(acq.toolPath(bad), InvalidInputError);
-    acquisition::SceneAcquisition writer(tiny());
+    acquisition::SceneAcquisition writer(de_test::tinySlab());
     EXPECT_THROW(writer.acquireSet({e, bad}, dir), InvalidInputError);
     EXPECT_FALSE(std::filesystem::exists(dir)) << "nothing may be written for a bad plan";
   }
 }
 
 TEST(SceneAcquisition, ShardsMergeIntoTheSingleRunsSet) {
-  acquisition::SceneAcquisition acq(tiny());
+  acquisition::SceneAcquisition acq(de_test::tinySlab());
   std::vector<acquisition::PlanEntry> plan(3);
   for (int k = 0; k < 3; ++k) {
     plan[k].point = Eigen::Vector3d(-0.01 + 0.01 * k, 0.004, 0.02);
@@ -227,7 +221,7 @@ TEST(SceneAcquisition, ShardsMergeIntoTheSingleRunsSet) {
   EXPECT_EQ(bytes(base + "_merged/stamps.bin"), bytes(base + "_one/stamps.bin"));
   EXPECT_EQ(bytes(base + "_merged/manifest.json"), bytes(base + "_one/manifest.json"));
   // A shard of another scene, or the same shard twice, is refused and nothing is written.
-  scene_file::SceneDescription other = tiny();
+  scene_file::SceneDescription other = de_test::tinySlab();
   other.stamp.resolution = 8;
   acquisition::SceneAcquisition(other).acquireSet({plan[1]}, base + "_other");
   for (const std::string& second : {base + "_other", base + "_s1"}) {
@@ -260,7 +254,7 @@ TEST(SceneAcquisition, ExamplesAreMadeOnARepairedSelfIntersectingSurface) {
 }
 
 TEST(FineConvergence, TheTruthIsComparedAcrossFineModelsAtTheSameDisplayVertices) {
-  const scene_file::SceneDescription d = tiny();
+  const scene_file::SceneDescription d = de_test::tinySlab();
   const acquisition::FineConvergence c = acquisition::fineConvergence(d, {1.0, 2.0}, 1, 11);
   ASSERT_EQ(c.levels.size(), 2u);
   EXPECT_GT(c.levels[1].fineTets, c.levels[0].fineTets);
@@ -279,7 +273,7 @@ TEST(FineConvergence, TheTruthIsComparedAcrossFineModelsAtTheSameDisplayVertices
 }
 
 TEST(FineConvergence, FinerModelsScaleCellsOrTheLargestTet) {
-  const scene_file::SceneDescription slab = tiny();
+  const scene_file::SceneDescription slab = de_test::tinySlab();
   const scene_file::SceneDescription finer = acquisition::withFinerFineModel(slab, 8.0, {}, {});
   EXPECT_EQ(finer.procedural->fineCells, Eigen::Vector3i(24, 24, 4));
   EXPECT_EQ(finer.procedural->fineSkinLayers, 2);

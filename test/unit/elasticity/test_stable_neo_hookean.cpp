@@ -10,6 +10,7 @@
 
 #include "deformation_enrichment/elasticity/stable_neo_hookean.hpp"
 #include "deformation_enrichment/error.hpp"
+#include "snh_variants.hpp"
 
 using namespace deformation_enrichment;
 using namespace deformation_enrichment::elasticity;
@@ -40,12 +41,10 @@ Matrix9d linearElasticityTensor(double mu, double lambda) {
   return C;
 }
 
-const SnhVariant kVariants[] = {SnhVariant::Paper, SnhVariant::Production};
-
 }  // namespace
 
 TEST(StableNeoHookean, Pk1MatchesCentralDifferencesOfPsi) {
-  for (SnhVariant variant : kVariants) {
+  for (SnhVariant variant : kSnhVariants) {
     const StableNeoHookean snh(1.3, 7.1, variant);
     for (const Eigen::Matrix3d& F : randomGradients(60, 11)) {
       const Eigen::Matrix3d P = snh.pk1(F);
@@ -63,7 +62,7 @@ TEST(StableNeoHookean, Pk1MatchesCentralDifferencesOfPsi) {
 }
 
 TEST(StableNeoHookean, HessianMatchesCentralDifferencesOfPk1) {
-  for (SnhVariant variant : kVariants) {
+  for (SnhVariant variant : kSnhVariants) {
     const StableNeoHookean snh(0.7, 3.0, variant);
     for (const Eigen::Matrix3d& F : randomGradients(60, 12)) {
       const Matrix9d H = snh.hessian(F);
@@ -83,7 +82,7 @@ TEST(StableNeoHookean, HessianMatchesCentralDifferencesOfPk1) {
 }
 
 TEST(StableNeoHookean, RestStateIsExactlyStressFree) {
-  for (SnhVariant variant : kVariants) {
+  for (SnhVariant variant : kSnhVariants) {
     for (double mu : {1e-3, 0.37, 1.0, 2.5e4}) {
       for (double lambda : {1e-2, 1.0, 10.0, 3.3e6}) {
         const StableNeoHookean snh(mu, lambda, variant);
@@ -96,7 +95,7 @@ TEST(StableNeoHookean, RestStateIsExactlyStressFree) {
 }
 
 TEST(StableNeoHookean, RestHessianIsLinearElasticityTensorOfUserLame) {
-  for (SnhVariant variant : kVariants) {
+  for (SnhVariant variant : kSnhVariants) {
     for (double mu : {0.37, 1.0, 2.5e4}) {
       for (double lambda : {1.0, 10.0, 3.3e6}) {
         const StableNeoHookean snh(mu, lambda, variant);
@@ -138,7 +137,7 @@ TEST(StableNeoHookean, PsiIsEquation14UpToItsRestValue) {
 
 TEST(StableNeoHookean, InvertedStatesHaveFiniteEnergyAndRestoringStress) {
   // Stable NH has no log(J) barrier: F = 0 and reflections are finite and pushed back towards J > 0.
-  for (SnhVariant variant : kVariants) {
+  for (SnhVariant variant : kSnhVariants) {
     const StableNeoHookean snh(1.0, 10.0, variant);
     const Eigen::Matrix3d reflection = Eigen::Vector3d(1.0, 1.0, -1.0).asDiagonal();
     EXPECT_TRUE(std::isfinite(snh.psi(Eigen::Matrix3d::Zero())));

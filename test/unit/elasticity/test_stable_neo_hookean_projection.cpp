@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "deformation_enrichment/elasticity/stable_neo_hookean.hpp"
+#include "snh_variants.hpp"
 
 using namespace deformation_enrichment::elasticity;
 
@@ -60,12 +61,10 @@ std::vector<Eigen::Matrix3d> degenerateGradients() {
   return out;
 }
 
-const SnhVariant kVariants[] = {SnhVariant::Paper, SnhVariant::Production};
-
 }  // namespace
 
 TEST(SnhEigensystem, ReconstructsExactHessianWithOrthonormalModes) {
-  for (SnhVariant variant : kVariants) {
+  for (SnhVariant variant : kSnhVariants) {
     const StableNeoHookean snh(1.1, 9.0, variant);
     for (const Eigen::Matrix3d& F : mixedGradients(200, 21)) {
       const SnhEigensystem es = snh.eigensystem(F);
@@ -78,7 +77,7 @@ TEST(SnhEigensystem, ReconstructsExactHessianWithOrthonormalModes) {
 }
 
 TEST(SnhProjection, EqualsNumericalEigenClampOfExactHessian) {
-  for (SnhVariant variant : kVariants) {
+  for (SnhVariant variant : kSnhVariants) {
     for (double lambda : {0.5, 9.0, 1e3}) {
       const StableNeoHookean snh(1.1, lambda, variant);
       int indefinite = 0;
@@ -96,7 +95,7 @@ TEST(SnhProjection, EqualsNumericalEigenClampOfExactHessian) {
 }
 
 TEST(SnhProjection, IsSymmetricPositiveSemiDefinite) {
-  for (SnhVariant variant : kVariants) {
+  for (SnhVariant variant : kSnhVariants) {
     const StableNeoHookean snh(2.0, 30.0, variant);
     for (const Eigen::Matrix3d& F : mixedGradients(300, 23)) {
       const Matrix9d P = snh.projectedHessian(F);
@@ -108,7 +107,7 @@ TEST(SnhProjection, IsSymmetricPositiveSemiDefinite) {
 }
 
 TEST(SnhProjection, DegenerateAndExtremeStatesAreFinitePsdAndExact) {
-  for (SnhVariant variant : kVariants) {
+  for (SnhVariant variant : kSnhVariants) {
     const StableNeoHookean snh(1.0, 10.0, variant);
     for (const Eigen::Matrix3d& F : degenerateGradients()) {
       EXPECT_TRUE(std::isfinite(snh.psi(F)));
@@ -131,7 +130,7 @@ TEST(SnhProjection, HugeRotatedStatesStayPsd) {
   // ~1e9, and the cofactor evaluated from F cancels to O(1) relative error, so the exact Hessian from F is
   // no usable reference here. The projection is built from the eigensystem alone and must stay PSD.
   const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
-  for (SnhVariant variant : kVariants) {
+  for (SnhVariant variant : kSnhVariants) {
     const StableNeoHookean snh(1.0, 10.0, variant);
     for (double big : {1e8, 1e15, 1e25}) {
       const Eigen::Matrix3d F = R * Eigen::Vector3d(big, 1.0, -1.0 / big).asDiagonal() * R.transpose();
@@ -147,7 +146,7 @@ TEST(SnhProjection, HugeRotatedStatesStayPsd) {
 TEST(SnhProjection, StructuredStatesWithRepeatedSingularValues) {
   // Uniform and axisymmetric scalings (and their reflections) give repeated singular values and repeated
   // scaling-block eigenvalues, including ones that cross zero as the scale factor sweeps through.
-  for (SnhVariant variant : kVariants) {
+  for (SnhVariant variant : kSnhVariants) {
     const StableNeoHookean snh(1.0, 4.0, variant);
     const Eigen::Matrix3d R = Eigen::AngleAxisd(0.5, Eigen::Vector3d(1, 3, -2).normalized()).toRotationMatrix();
     for (double a = -1.5; a <= 1.5; a += 0.01) {
@@ -167,7 +166,7 @@ TEST(SnhProjection, RandomScalesSweepStaysFiniteAndExact) {
   std::mt19937 rng(24);
   std::uniform_real_distribution<double> exponent(-6.0, 6.0);
   std::bernoulli_distribution negative(0.5);
-  for (SnhVariant variant : kVariants) {
+  for (SnhVariant variant : kSnhVariants) {
     const StableNeoHookean snh(1.0, 100.0, variant);
     for (int n = 0; n < 1000; ++n) {
       Eigen::Matrix3d F;

@@ -31,7 +31,7 @@ enrichment::ContactEnricherOptions options(int order) {
 }
 
 // A sheared dent around the top centre (smooth, so every order of mu is non-zero).
-Eigen::Matrix3Xd dented(const Eigen::Matrix3Xd& rest) {
+Eigen::Matrix3Xd shearedDent(const Eigen::Matrix3Xd& rest) {
   Eigen::Matrix3Xd current = rest;
   for (Eigen::Index v = 0; v < rest.cols(); ++v) {
     const Eigen::Vector3d d = rest.col(v) - Eigen::Vector3d(0.001, 0.0, 0.02);
@@ -60,7 +60,7 @@ examples::ExampleSet setOf(const std::vector<enrichment::ContactDescription>& de
 
 TEST(DescriptorOrder, TruncatedOrderThreeDescriptorEqualsTheOrderTwoDescriptor) {
   const mesh::TriangleMesh rest = slab();
-  const Eigen::Matrix3Xd current = dented(rest.vertices);
+  const Eigen::Matrix3Xd current = shearedDent(rest.vertices);
   enrichment::Contact contact;
   contact.point = Eigen::Vector3d(0.0, 0.0, 0.02);
   const auto three = enrichment::ContactEnricher(rest, options(3)).describe(current, contact);
@@ -79,7 +79,7 @@ TEST(DescriptorOrder, TruncatedOrderThreeDescriptorEqualsTheOrderTwoDescriptor) 
 
 TEST(DescriptorOrder, SetsTruncateDownAndRefuseUp) {
   const mesh::TriangleMesh rest = slab();
-  const Eigen::Matrix3Xd current = dented(rest.vertices);
+  const Eigen::Matrix3Xd current = shearedDent(rest.vertices);
   const enrichment::ContactEnricher describer(rest, options(3));
   enrichment::Contact a, b;
   a.point = Eigen::Vector3d(0.0, 0.0, 0.02);
@@ -115,7 +115,7 @@ TEST(DescriptorOrder, SetsTruncateDownAndRefuseUp) {
 
 TEST(DescriptorOrder, KernelWidthKnobReplacesAndRestoresTheLoadedWidths) {
   const mesh::TriangleMesh rest = slab();
-  const Eigen::Matrix3Xd current = dented(rest.vertices);
+  const Eigen::Matrix3Xd current = shearedDent(rest.vertices);
   enrichment::ContactEnricher enricher(rest, options(2));
   EXPECT_THROW(enricher.setKernelWidths(0.1, 0.1), InvalidInputError) << "no set loaded";
   enrichment::Contact a, b;

@@ -14,7 +14,7 @@ using namespace deformation_enrichment;
 
 namespace {
 
-mesh::TriangleMesh slabSurface() {
+mesh::TriangleMesh coarseSlabSurface() {
   return mesh::extractSurface(mesh::gridTetMesh(Eigen::Vector3d(-0.05, -0.05, 0.0), Eigen::Vector3d(0.05, 0.05, 0.02),
                                                 Eigen::Vector3i(12, 12, 3)))
       .surface;
@@ -42,7 +42,7 @@ enrichment::ContactEnricherOptions acquisitionOptions(descriptors::Quadrature qu
   return o;
 }
 
-Eigen::Matrix3Xd dented(const Eigen::Matrix3Xd& rest) {
+Eigen::Matrix3Xd acquisitionDent(const Eigen::Matrix3Xd& rest) {
   Eigen::Matrix3Xd current = rest;
   for (Eigen::Index v = 0; v < rest.cols(); ++v) {
     const double g = std::exp(-(rest.col(v) - Eigen::Vector3d(0.004, -0.002, 0.02)).squaredNorm() / (2.0 * 0.008 * 0.008));
@@ -56,7 +56,7 @@ examples::ExampleSet acquiredSet(descriptors::Quadrature quadrature, const mesh:
                                  const enrichment::Contact& contact) {
   const enrichment::ContactEnricherOptions options = acquisitionOptions(quadrature);
   const enrichment::ContactEnricher acquisition(rest, options);
-  const enrichment::ContactDescription d = acquisition.describe(dented(rest.vertices), contact);
+  const enrichment::ContactDescription d = acquisition.describe(acquisitionDent(rest.vertices), contact);
   examples::Example e;
   e.contact = d.p;
   e.frame = d.B;
@@ -73,7 +73,7 @@ examples::ExampleSet acquiredSet(descriptors::Quadrature quadrature, const mesh:
 }  // namespace
 
 TEST(ExampleSetOptions, EachQuadratureIsDescribedAtRunTimeExactlyAsAcquired) {
-  const mesh::TriangleMesh rest = slabSurface();
+  const mesh::TriangleMesh rest = coarseSlabSurface();
   enrichment::Contact contact;
   contact.point = Eigen::Vector3d(0.004, -0.002, 0.02);
   for (const auto quadrature : {descriptors::Quadrature::Volume, descriptors::Quadrature::Average}) {
@@ -89,7 +89,7 @@ TEST(ExampleSetOptions, EachQuadratureIsDescribedAtRunTimeExactlyAsAcquired) {
     EXPECT_EQ(runTime.descriptors.siteOrder, 2);
     EXPECT_EQ(runTime.descriptors.deformationOrder, 1);
     // The run-time enricher describes the acquired contact with the example's own descriptors, bit for bit.
-    const enrichment::ContactDescription d = enrichment::ContactEnricher(rest, runTime).describe(dented(rest.vertices), contact);
+    const enrichment::ContactDescription d = enrichment::ContactEnricher(rest, runTime).describe(acquisitionDent(rest.vertices), contact);
     const examples::Example& e = set.examples.front();
     ASSERT_EQ(d.rho.values().size(), e.rho.values().size());
     ASSERT_EQ(d.mu.values().size(), e.mu.values().size());
@@ -104,7 +104,7 @@ TEST(ExampleSetOptions, EachQuadratureIsDescribedAtRunTimeExactlyAsAcquired) {
 }
 
 TEST(ExampleSetOptions, SetsWithoutProvenanceUseTheirMetadataAndBadValuesAreRefused) {
-  const mesh::TriangleMesh rest = slabSurface();
+  const mesh::TriangleMesh rest = coarseSlabSurface();
   enrichment::Contact contact;
   contact.point = Eigen::Vector3d(0.0, 0.0, 0.02);
   // A set without provenance: named entries, the cut-off not among them.

@@ -7,16 +7,10 @@
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/kinematics/kabsch.hpp"
+#include "random_rotation.hpp"
 
 using namespace deformation_enrichment;
 using kinematics::kabsch;
-
-namespace {
-Eigen::Matrix3d randomRotation(unsigned seed) {
-  std::srand(seed);
-  return Eigen::Quaterniond(Eigen::Vector4d::Random()).normalized().toRotationMatrix();
-}
-}  // namespace
 
 // Seed 003's use: the 3D rotation between a rest and a deformed triangle. A rigidly moved triangle
 // gives back the motion exactly; three points are enough (rank 2 cross-covariance).

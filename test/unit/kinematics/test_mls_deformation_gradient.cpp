@@ -9,16 +9,12 @@
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/kinematics/mls_deformation_gradient.hpp"
 #include "deformation_enrichment/kinematics/polar_decomposition.hpp"
+#include "random_rotation.hpp"
 
 using namespace deformation_enrichment;
 using kinematics::mlsDeformationGradient;
 
 namespace {
-
-Eigen::Matrix3d randomRotation(unsigned seed) {
-  std::srand(seed);
-  return Eigen::Quaterniond(Eigen::Vector4d::Random()).normalized().toRotationMatrix();
-}
 
 // Gaussian weights of the samples around p, as the descriptors use them.
 Eigen::VectorXd gaussianWeights(const Eigen::Matrix3Xd& x, const Eigen::Vector3d& p, double h) {

@@ -8,6 +8,7 @@
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/kinematics/triangle_deformation_gradient.hpp"
+#include "random_rotation.hpp"
 
 using namespace deformation_enrichment;
 using kinematics::triangleDeformationGradient;
@@ -23,11 +24,6 @@ const Eigen::Vector3d kVertR[3] = {{0.759919, -0.015194, 6.38401},
 const Eigen::Vector3d kVertT[3] = {{0.771842, -0.0144887, 6.39045},
                                    {0.780121, -0.0186188, 6.37318},
                                    {0.737177, -0.00912791, 6.39292}};
-
-Eigen::Matrix3d randomRotation(unsigned seed) {
-  std::srand(seed);
-  return Eigen::Quaterniond(Eigen::Vector4d::Random()).normalized().toRotationMatrix();
-}
 
 // |U ē| for a rest edge ē given in 3D (U acts on rest-frame coordinates).
 double stretchedLength(const kinematics::TriangleStrain& s, const Eigen::Vector3d& restEdge) {
