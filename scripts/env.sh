@@ -18,8 +18,13 @@ export OMP_WAIT_POLICY="${OMP_WAIT_POLICY:-PASSIVE}"
 # DE_CMAKE_ARGS: extra configure arguments, a bash array (one element per argument, so values may hold spaces).
 de_configure() {  # configure $DE_BUILD (log in $DE_BUILD/configure.log, printed on failure)
   mkdir -p "$DE_BUILD"
-  cmake -S "$DE_ROOT" -B "$DE_BUILD" -DCMAKE_BUILD_TYPE="${DE_BUILD_TYPE:-Release}" -DCATKIN_DEVEL_PREFIX="$DE_DEVEL" \
-    "${DE_CMAKE_ARGS[@]}" >"$DE_BUILD/configure.log" 2>&1 || { cat "$DE_BUILD/configure.log"; return 1; }
+  # Ninja compiles a target's sources while the libraries it links are still being built, where Make waits for
+  # them; a folder configured earlier keeps its generator.
+  local generator=()
+  [ -f "$DE_BUILD/CMakeCache.txt" ] || generator=(-G Ninja)
+  cmake -S "$DE_ROOT" -B "$DE_BUILD" "${generator[@]}" -DCMAKE_BUILD_TYPE="${DE_BUILD_TYPE:-Release}" \
+    -DCATKIN_DEVEL_PREFIX="$DE_DEVEL" "${DE_CMAKE_ARGS[@]}" >"$DE_BUILD/configure.log" 2>&1 ||
+    { cat "$DE_BUILD/configure.log"; return 1; }
 }
 
 de_build() {  # de_build [extra targets...]: configure and build the package and the given targets

@@ -3,7 +3,8 @@
 # go into catkin_ws/src/deformation_enrichment of a fresh workspace outside the package folder, catkin_make
 # configures the workspace and builds the enrichment node, and after `source devel/setup.bash` rosrun finds
 # the node in that workspace's devel space and roslaunch resolves every launch file of the package.
-# Usage: catkin_workspace.sh SOURCE_DIR   (needs catkin_make on PATH; builds Release, tests off)
+# Usage: catkin_workspace.sh SOURCE_DIR   (needs catkin_make and ninja on PATH; builds Release, tests off;
+# Ninja as the package's own build uses, so the node's sources compile while the layers below still build)
 set -eo pipefail
 source_dir="$1"
 workspace=$(mktemp -d /tmp/de_catkin_ws.XXXXXX)
@@ -16,7 +17,7 @@ tar -C "$source_dir" --exclude=./build --exclude=./devel --exclude=./.git -cf - 
   tar -C "$workspace/src/deformation_enrichment" -xf -
 cd "$workspace"
 export PATH=/usr/bin:$PATH
-catkin_make -DCMAKE_BUILD_TYPE=Release -DCATKIN_ENABLE_TESTING=OFF -DDE_BUILD_BENCHMARKS=OFF \
+catkin_make --use-ninja -DCMAKE_BUILD_TYPE=Release -DCATKIN_ENABLE_TESTING=OFF -DDE_BUILD_BENCHMARKS=OFF \
   -j"$(nproc)" enrichment_node >"$workspace/catkin_make.log" 2>&1 || { tail -40 "$workspace/catkin_make.log"; fail "catkin_make"; }
 # Sourcing the workspace replaces the package paths of the caller's environment with the workspace's.
 source devel/setup.bash
