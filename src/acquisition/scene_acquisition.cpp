@@ -5,6 +5,7 @@
 #include <cmath>
 #include <functional>
 
+#include "deformation_enrichment/acquisition/tool_loading.hpp"
 #include "deformation_enrichment/elasticity/quasi_static_solver.hpp"
 #include "deformation_enrichment/elasticity/tet_fem.hpp"
 #include "deformation_enrichment/enrichment/example_set_options.hpp"
@@ -14,7 +15,7 @@
 #include "deformation_enrichment/mesh/embedded_state_fit.hpp"
 #include "deformation_enrichment/mesh/surface_projection.hpp"
 #include "deformation_enrichment/mesh/tet_surface.hpp"
-#include "deformation_enrichment/acquisition/tool_loading.hpp"
+#include "deformation_enrichment/seconds_since.hpp"
 
 namespace deformation_enrichment::acquisition {
 namespace {
@@ -101,7 +102,7 @@ double solvePath(const Body& body, const ToolPath& path, const SceneDescription&
     }
     if (onStep) onStep(positions);
   }
-  return std::chrono::duration<double>(Clock::now() - start).count();
+  return secondsSince(start);
 }
 
 void checkEntry(const PlanEntry& entry) {

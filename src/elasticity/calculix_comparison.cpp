@@ -10,6 +10,7 @@
 #include "deformation_enrichment/elasticity/quasi_static_solver.hpp"
 #include "deformation_enrichment/elasticity/symmetric_eigen3.hpp"
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/root_mean_square.hpp"
 #include "deformation_enrichment/seconds_since.hpp"
 
 namespace deformation_enrichment::elasticity {
@@ -106,14 +107,10 @@ void attributeToEnergyForms(const TetFem& fem, const CalculixModel& model, Calcu
   Eigen::Matrix3Xd corrected = out.calculixDisplacements;
   for (Eigen::Index d = 0; d < dofMap.size(); ++d)
     if (dofMap[d] >= 0) corrected(d % 3, d / 3) += du[dofMap[d]];
-  out.energyFormRemainder = rmsNorm(corrected - out.ourDisplacements) / out.rmsDisplacement;
+  out.energyFormRemainder = rootMeanSquare(corrected - out.ourDisplacements) / out.rmsDisplacement;
 }
 
 }  // namespace
-
-double rmsNorm(const Eigen::Matrix3Xd& vectors) {
-  return vectors.cols() > 0 ? std::sqrt(vectors.colwise().squaredNorm().mean()) : 0.0;
-}
 
 CalculixComparison compareWithCalculix(const CalculixModel& model, const CalculixComparisonOptions& options) {
   validate(model);
@@ -129,9 +126,9 @@ CalculixComparison compareWithCalculix(const CalculixModel& model, const Calculi
   out.calculixDisplacements = run.displacements;
   out.calculixSeconds = run.seconds;
   // RMS_v |u_ours - u_ccx| / RMS_v |u_ours| (the figure the check bounds).
-  out.rmsDisplacement = rmsNorm(out.ourDisplacements);
+  out.rmsDisplacement = rootMeanSquare(out.ourDisplacements);
   const Eigen::Matrix3Xd difference = out.ourDisplacements - out.calculixDisplacements;
-  out.relativeDifference = rmsNorm(difference) / out.rmsDisplacement;
+  out.relativeDifference = rootMeanSquare(difference) / out.rmsDisplacement;
   out.maxDifference = difference.colwise().norm().maxCoeff();
   strainPeaks(fem, model.rest.vertices + out.ourDisplacements, out);
   attributeToEnergyForms(fem, model, out);

@@ -17,6 +17,7 @@
 
 #include "deformation_enrichment/elasticity/calculix_dat.hpp"
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/seconds_since.hpp"
 
 extern char** environ;
 
@@ -136,7 +137,7 @@ CalculixRun runCalculix(const CalculixModel& model, const CalculixOptions& optio
   const auto start = std::chrono::steady_clock::now();
   const int status = runInFolder(options, folder, log);
   CalculixRun run;
-  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  run.seconds = secondsSince(start);
   // ccx exits 0 after some rejected decks (an unreadable input, for one), so its *ERROR lines count too.
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
     throw IoError(options.program + " failed on " + deck + " (" + describeStatus(status) + "): " + logExcerpt(log));

@@ -5,6 +5,7 @@
 #include "deformation_enrichment/enrichment/enrichment_session.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/surface_report.hpp"
+#include "deformation_enrichment/seconds_since.hpp"
 #include "session_built.hpp"
 
 namespace deformation_enrichment::enrichment {
@@ -94,7 +95,7 @@ void EnrichmentSession::rebuildLoop() {
     } catch (const Error& e) {
       error = e.what();
     }
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double seconds = secondsSince(start);
     lock.lock();
     // A newer rest surface, set or knob value arrived meanwhile: build again for it.
     const bool current = pending_ == rest && configVersion_ == config;

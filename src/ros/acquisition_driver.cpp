@@ -18,6 +18,7 @@
 #include "deformation_enrichment/acquisition/scene_acquisition.hpp"
 #include "deformation_enrichment/ros/coarse_bag.hpp"
 #include "deformation_enrichment/ros/conversions.hpp"
+#include "deformation_enrichment/seconds_since.hpp"
 
 namespace de = deformation_enrichment;
 using Clock = std::chrono::steady_clock;
@@ -70,15 +71,14 @@ public:
       }
       const auto writeStart = Clock::now();
       bag.write(line, steps);
-      overhead_ += seconds(writeStart);
-      const double total = seconds(start);
+      overhead_ += de::secondsSince(writeStart);
+      const double total = de::secondsSince(start);
       ROS_INFO("acquisition driver: interaction %zu of %zu (plan line %zu): %zu steps in %.2f s, %.0f ms per step, driver %.2f ms per step",
                done, todo, line + 1, steps.size(), total, 1e3 * total / steps.size(), 1e3 * overhead_ / steps.size());
     }
   }
 
 private:
-  static double seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
 
   void onState(const ros::MessageEvent<const sensor_msgs::PointCloud2>& event) {
     const auto start = Clock::now();
@@ -106,7 +106,7 @@ private:
     latest_ = cloud;
     ++received_;
     if (publisher_.empty()) publisher_ = event.getPublisherName(), frame_ = cloud.header.frame_id;
-    overhead_ += seconds(start);
+    overhead_ += de::secondsSince(start);
   }
 
   void onMeasured(const geometry_msgs::PoseStamped& pose) {

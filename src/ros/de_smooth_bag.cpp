@@ -14,6 +14,7 @@
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/mesh_io.hpp"
 #include "deformation_enrichment/ros/conversions.hpp"
+#include "deformation_enrichment/seconds_since.hpp"
 #include "deformation_enrichment/shape_space/blas_threads.hpp"
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
 #include "deformation_enrichment/shape_space/smoothing_flow.hpp"
@@ -138,7 +139,7 @@ int main(int argc, char** argv) {
     writeSmoothed(in, output, topic, clouds, flow.current().shapes);
     std::printf("{\"states\": %zu, \"accepted_steps\": %d, \"unconverged_averages\": %d, \"path_energy\": [%s], "
                 "\"seconds\": %.3f}\n", clouds.size(), accepted, run.unconverged, run.energies.c_str(),
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+                de::secondsSince(start));
     return 0;
   } catch (const de::Error& e) {
     std::fprintf(stderr, "de_smooth_bag: %s\n", e.what());

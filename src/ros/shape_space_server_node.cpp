@@ -12,6 +12,7 @@
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/polygon_triangulation.hpp"
 #include "deformation_enrichment/ros/conversions.hpp"
+#include "deformation_enrichment/seconds_since.hpp"
 #include "deformation_enrichment/shape_space/blas_threads.hpp"
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
 #include "deformation_enrichment/shape_space/geodesic.hpp"
@@ -88,7 +89,7 @@ private:
       response.message = e.what();
       ROS_ERROR("%s failed: %s", what, e.what());
     }
-    response.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    response.seconds = de::secondsSince(start);
     return true;  // the service call itself succeeded; success says whether the work did
   }
 

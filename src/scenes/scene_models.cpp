@@ -14,6 +14,7 @@
 #include "deformation_enrichment/mesh/tetrahedralisation.hpp"
 #include "deformation_enrichment/mesh/volume_mesh_io.hpp"
 #include "deformation_enrichment/scenes/fine_model.hpp"
+#include "deformation_enrichment/seconds_since.hpp"
 
 namespace deformation_enrichment::scenes {
 namespace {
@@ -249,7 +250,7 @@ SceneModels fileModels(const SceneDescription& d) {
   m.fineEdge = longestEdge(m.surface);
   report << "; coarse " << m.coarse.mesh.numVertices() << " nodes, " << m.coarse.mesh.numTets() << " tets; fine "
          << m.fine.mesh.numVertices() << " nodes, " << m.fine.mesh.numTets() << " tets (" << fine.report << "); "
-         << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s";
+         << secondsSince(start) << " s";
   m.report = report.str();
   return m;
 }

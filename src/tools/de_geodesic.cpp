@@ -13,6 +13,7 @@
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/mesh_io.hpp"
+#include "deformation_enrichment/seconds_since.hpp"
 #include "deformation_enrichment/shape_space/blas_threads.hpp"
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
 #include "deformation_enrichment/shape_space/geodesic.hpp"
@@ -69,7 +70,7 @@ int main(int argc, char** argv) {
       de::mesh::writeTriangleMesh((fs::path(output) / (std::string(name) + ext)).string(),
                                   de::mesh::TriangleMesh{ss::unflatten(g.shapes[k]), ends.triangles});
     }
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double seconds = de::secondsSince(start);
     std::cerr << "  length " << g.length << ", path energy " << g.pathEnergy << ", " << g.iterations
               << (useFlow ? " flow steps, " : " solver iterations, ") << "ghost vertices " << g.ghostVertices << ", "
               << seconds << " s\n";

@@ -13,6 +13,7 @@
 #include "deformation_enrichment/error.hpp"
 #ifdef DE_COARSE_BAG
 #include "deformation_enrichment/ros/coarse_bag.hpp"
+#include "deformation_enrichment/seconds_since.hpp"
 #endif
 #include "command_line.hpp"
 
@@ -103,7 +104,7 @@ int main(int argc, char** argv) {
     const std::vector<acquisition::PlanEntry> plan = recorded ? recorded->plan : acquisition::scenePlan(acq, examples);
     if (output == "default") output = acquisition::defaultExampleSetDirectory(scene.name);
     const examples::ExampleSet set = acq.acquireSet(plan, output, &std::cerr, shard, recorded ? &*recorded : nullptr);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double seconds = secondsSince(start);
     std::cerr << "wrote " << set.examples.size() << " examples (shard " << shard.index << "/" << shard.count << " of a "
               << plan.size() << "-line plan) to " << output << " in " << seconds << " s\n";
   } catch (const std::exception& e) {

@@ -23,6 +23,7 @@
 #include "deformation_enrichment/mesh/surface_report.hpp"
 #include "deformation_enrichment/mesh/tetgen_io.hpp"
 #include "deformation_enrichment/mesh/tetrahedralisation.hpp"
+#include "deformation_enrichment/seconds_since.hpp"
 #include "command_line.hpp"
 
 using namespace deformation_enrichment;
@@ -30,7 +31,6 @@ using Json = nlohmann::ordered_json;
 using Clock = std::chrono::steady_clock;
 
 namespace {
-double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 }  // namespace
 
 int main(int argc, char** argv) {

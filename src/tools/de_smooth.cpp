@@ -22,8 +22,9 @@
 
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/md2_reader.hpp"
-#include "deformation_enrichment/number_parsing.hpp"
 #include "deformation_enrichment/mesh/mesh_io.hpp"
+#include "deformation_enrichment/number_parsing.hpp"
+#include "deformation_enrichment/seconds_since.hpp"
 #include "deformation_enrichment/shape_space/blas_threads.hpp"
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
 #include "deformation_enrichment/shape_space/smoothing_flow.hpp"
@@ -170,7 +171,7 @@ int main(int argc, char** argv) {
     fs::create_directories(output);
     for (size_t i = 0; i < in.meshes.size(); ++i)
       de::mesh::writeTriangleMesh((fs::path(output) / in.names[i]).string(), ss::shapeMesh(flow.current(), Eigen::Index(i)));
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double seconds = de::secondsSince(start);
     if (common.json) {
       out["seconds"] = seconds;
       out["shapes"] = in.meshes.size();

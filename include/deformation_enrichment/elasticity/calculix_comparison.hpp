@@ -45,7 +45,4 @@ struct CalculixComparison {
 CalculixComparison compareWithCalculix(const CalculixModel& model,
                                        const CalculixComparisonOptions& options = CalculixComparisonOptions());
 
-/// RMS over columns of the column norms.
-double rmsNorm(const Eigen::Matrix3Xd& vectors);
-
 }  // namespace deformation_enrichment::elasticity
