@@ -3,8 +3,8 @@
 # go into catkin_ws/src/deformation_enrichment of a fresh workspace outside the package folder, catkin_make
 # configures the workspace and builds the enrichment node, and after `source devel/setup.bash` rosrun finds
 # the node in that workspace's devel space and roslaunch resolves every launch file of the package.
-# Usage: catkin_workspace.sh SOURCE_DIR   (needs catkin_make and ninja on PATH; builds Release, tests off;
-# Ninja as the package's own build uses, so the node's sources compile while the layers below still build)
+# Usage: catkin_workspace.sh SOURCE_DIR   (needs catkin_make and ninja on PATH; builds Release, tests off).
+# Ninja, as the package's own build: the node's sources compile while the layers below it still build.
 set -eo pipefail
 source_dir="$1"
 workspace=$(mktemp -d /tmp/de_catkin_ws.XXXXXX)
