@@ -82,30 +82,30 @@ private:
 
   void onState(const ros::MessageEvent<const sensor_msgs::PointCloud2>& event) {
     const auto start = Clock::now();
-    const sensor_msgs::PointCloud2& cloud = *event.getConstMessage();
-    // A callback must not throw through roscpp: the waiting loops stop on fault_.
-    Eigen::Matrix3Xf positions;
+    const sensor_msgs::PointCloud2ConstPtr cloud = event.getConstMessage();
+    // A callback must not throw through roscpp: the waiting loops stop on fault_. Decoded into the buffer of
+    // the state before last, and the message kept by pointer: a simulator may send hundreds of states a step.
     try {
-      positions = de::ros_layer::positionsFromCloud(cloud);
+      de::ros_layer::positionsFromCloud(*cloud, current_);
     } catch (const std::exception& e) {
       fault_ = std::string("a mesh_state that cannot be read: ") + e.what();
       return;
     }
-    if (positions.cols() != vertices_) {
-      fault_ = "the simulator's mesh_state has " + std::to_string(positions.cols()) + " points, the scene's display surface " +
+    if (current_.cols() != vertices_) {
+      fault_ = "the simulator's mesh_state has " + std::to_string(current_.cols()) + " points, the scene's display surface " +
                std::to_string(vertices_) + " vertices";
       return;
     }
-    nonFinite_ = nonFinite_ || !positions.allFinite();
-    motion_ = previous_.cols() == positions.cols() ? (positions - previous_).colwise().norm().maxCoeff()
-                                                   : std::numeric_limits<float>::infinity();
+    nonFinite_ = nonFinite_ || !current_.allFinite();
+    motion_ = previous_.cols() == current_.cols() ? std::sqrt((current_ - previous_).colwise().squaredNorm().maxCoeff())
+                                                  : std::numeric_limits<float>::infinity();
     // A simulator that moves its tool towards the command over several states (and says where it is on
     // measured_cp) is not settled while the tool is on its way, however still the tissue.
     quiet_ = motion_ < settings_.settleTolerance && toolArrived() ? quiet_ + 1 : 0;
-    previous_ = positions;
+    previous_.swap(current_);
     latest_ = cloud;
     ++received_;
-    if (publisher_.empty()) publisher_ = event.getPublisherName(), frame_ = cloud.header.frame_id;
+    if (publisher_.empty()) publisher_ = event.getPublisherName(), frame_ = cloud->header.frame_id;
     overhead_ += de::secondsSince(start);
   }
 
@@ -155,7 +155,7 @@ private:
       ros::WallDuration(0.0005).sleep();
     }
     if (!ros::ok()) throw Stop("shut down");
-    if (step) *step = {pose, latest_};
+    if (step) *step = {pose, *latest_};
     return {};
   }
 
@@ -198,8 +198,8 @@ private:
   ros::Subscriber states_, measured_;
   std::optional<Eigen::Vector3d> toolAt_, commanded_;  // measured_cp (when the simulator publishes it), servo_cp
   ros::ServiceClient reset_;
-  sensor_msgs::PointCloud2 latest_;
-  Eigen::Matrix3Xf previous_;
+  sensor_msgs::PointCloud2ConstPtr latest_;
+  Eigen::Matrix3Xf previous_, current_;
   std::uint64_t received_ = 0;
   int quiet_ = 0;
   float motion_ = std::numeric_limits<float>::infinity();

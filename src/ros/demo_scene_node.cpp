@@ -11,7 +11,9 @@
 //   publishes it on fine_state with the stamps of the coarse states: the truth the enrichment node draws
 //   beside its output (~marker_fine_offset);
 // - simulator: a coarse simulator running beside it (docs/coarse_simulator.md, e.g. bullet_coarse_sim_node)
-//   publishes the states and the rest mesh; this node commands its tool on servo_cp.
+//   publishes the states and the rest mesh; this node commands its tool on servo_cp, and with ~fine_truth
+//   publishes the fine state of each command (solved as for snh) with the command's stamp: the simulator
+//   stamps its own states, and the enrichment node draws the newest truth at or before a state's stamp.
 #include <geometry_msgs/PoseStamped.h>
 #include <ros/ros.h>
 #include <sys/resource.h>
@@ -228,10 +230,11 @@ void playSolvedTaps(ros::NodeHandle& nh, const de::acquisition::SceneAcquisition
 // Scripts the tool of a coarse simulator that runs on its own (docs/coarse_simulator.md; e.g.
 // bullet_coarse_sim_node, which publishes the states and the rest mesh): the tool sphere's centre on
 // servo_cp along each tap's path, lifted clear between taps, and the contact at the sphere's tip where
-// measured_cp says the tool is (the simulator may still be moving it towards the command).
+// measured_cp says the tool is (the simulator may still be moving it towards the command); the fine truth of
+// each command once its tap is solved (`fine`: null for none).
 void scriptSimulatorTool(ros::NodeHandle& nh, const de::acquisition::SceneAcquisition& scene,
-                         const std::vector<de::acquisition::PlanEntry>& entries, const DemoOptions& settings,
-                         std_msgs::Header header) {
+                         const std::vector<de::acquisition::PlanEntry>& entries, const FineTruth* fine,
+                         const DemoOptions& settings, std_msgs::Header header) {
   const double radius = scene.scene().tool.radius;
   std::vector<std::vector<Eigen::Vector3d>> centres;
   std::vector<de::acquisition::ToolPath> paths;
@@ -241,6 +244,8 @@ void scriptSimulatorTool(ros::NodeHandle& nh, const de::acquisition::SceneAcquis
   }
   ros::Publisher commandPub = nh.advertise<geometry_msgs::PoseStamped>("servo_cp", 2);
   ros::Publisher contactsPub = nh.advertise<de::ToolContactArray>("contacts", 2);
+  ros::Publisher finePub;
+  if (fine) finePub = nh.advertise<sensor_msgs::PointCloud2>("fine_state", 2);
   std::optional<Eigen::Vector3d> measured;
   ros::Subscriber measuredSub = nh.subscribe<geometry_msgs::PoseStamped>("measured_cp", 2, [&](const geometry_msgs::PoseStampedConstPtr& pose) {
     measured = Eigen::Vector3d(pose->pose.position.x, pose->pose.position.y, pose->pose.position.z);
@@ -258,6 +263,8 @@ void scriptSimulatorTool(ros::NodeHandle& nh, const de::acquisition::SceneAcquis
     const double f = s - k;
     const Eigen::Vector3d centre = s > 0.0 ? between(c, k, f)
                                            : Eigen::Vector3d(c.front() - std::max(radius, 2.0 * path.depth) * path.inward);
+    if (const auto finePath = fine ? fine->path(tap) : nullptr)
+      finePub.publish(de::ros_layer::cloudFromPositions(between(*finePath, k, s > 0.0 ? f : 0.0).cast<float>(), header));
     commandPub.publish(de::ros_layer::poseAt(centre, header));
     de::ToolContactArray contacts;
     contacts.header = header;
@@ -299,12 +306,13 @@ int main(int argc, char** argv) {
   ROS_INFO("demo scene %s: %ld surface vertices; %zu taps, one every %.1f s; coarse states from %s", settings.sceneName.c_str(),
            static_cast<long>(scene->fineSurface().numVertices()), entries.size(), settings.period,
            settings.coarse == "snh" ? "the coarse SNH paths solved at start-up" : "the simulator (servo_cp out, measured_cp in)");
-  if (settings.coarse == "snh") {
-    std::optional<FineTruth> fine;
-    if (settings.fineTruth) fine.emplace(*scene, entries, settings.indentSteps, settings.dragSteps);
-    playSolvedTaps(nh, *scene, taps, fine ? &*fine : nullptr, settings, header);
-  } else {
-    scriptSimulatorTool(nh, *scene, entries, settings, header);
-  }
+  // The fine paths in the steps of the coarse ones: the demo's own, or those of the simulator's commands.
+  const bool own = settings.coarse == "snh";
+  const de::scene_file::Solve& solve = scene->scene().solve;
+  std::optional<FineTruth> fine;
+  if (settings.fineTruth)
+    fine.emplace(*scene, entries, own ? settings.indentSteps : solve.indentSteps, own ? settings.dragSteps : solve.dragSteps);
+  if (own) playSolvedTaps(nh, *scene, taps, fine ? &*fine : nullptr, settings, header);
+  else scriptSimulatorTool(nh, *scene, entries, fine ? &*fine : nullptr, settings, header);
   return 0;
 }

@@ -194,8 +194,9 @@ TEST_F(EnrichmentNodeTest, MarkersForSubscribersAndDiagnostics) {
   EXPECT_TRUE(waitFor([&] { return diagnostics != nullptr; }, 5.0)) << "no /diagnostics from the node";
 }
 
-// The test launch sets ~marker_fine_offset: the fine truth of a state (fine_state, its stamp) is drawn beside
-// it; one of another size or in another frame is not, is counted in /diagnostics, and the node goes on.
+// The test launch sets ~marker_fine_offset: the fine truth of a state (fine_state, its stamp or shortly
+// before) is drawn beside it; one of another size or in another frame is not, is counted in /diagnostics,
+// and the node goes on.
 TEST_F(EnrichmentNodeTest, FineTruthOfTheDrawnStateBesideItAndAWrongSizedOneLeftOut) {
   std::mutex mutex;
   std::vector<visualization_msgs::MarkerArrayConstPtr> arrays;
@@ -240,6 +241,24 @@ TEST_F(EnrichmentNodeTest, FineTruthOfTheDrawnStateBesideItAndAWrongSizedOneLeft
   ASSERT_TRUE(roundTrip(third));
   EXPECT_TRUE(drawnWith(third.header.stamp, false)) << "a fine state in another frame must not be drawn";
   EXPECT_FALSE(diagnosticValue("dropped fine_state: frame differs from the mesh state's").empty());
+  // A simulator that runs on its own stamps its states itself, the truth has its tool command's stamp: the
+  // newest fine state at or before a state, within ~marker_fine_tolerance (0.1 s), is its truth.
+  sensor_msgs::PointCloud2 fourth = goodState();
+  std_msgs::Header commanded = fourth.header;
+  commanded.stamp -= ros::Duration(0.05);
+  finePub.publish(cloudFromPositions(fine, commanded));
+  ros::WallDuration(0.1).sleep();
+  ASSERT_TRUE(roundTrip(fourth));
+  EXPECT_TRUE(drawnWith(fourth.header.stamp, true)) << "the truth commanded 50 ms before the state is not drawn";
+  sensor_msgs::PointCloud2 fifth = goodState();
+  for (const double offset : {-0.5, 0.02}) {
+    commanded = fifth.header;
+    commanded.stamp += ros::Duration(offset);
+    finePub.publish(cloudFromPositions(fine, commanded));
+  }
+  ros::WallDuration(0.1).sleep();
+  ASSERT_TRUE(roundTrip(fifth));
+  EXPECT_TRUE(drawnWith(fifth.header.stamp, false)) << "a truth 0.5 s older or newer than the state must not be drawn";
   ASSERT_TRUE(roundTrip(goodState())) << "the node must keep running";
 }
 

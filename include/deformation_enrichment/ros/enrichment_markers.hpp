@@ -25,6 +25,10 @@ struct MarkerOptions {
   /// Where the fine truth (when there is one: the fine simulation's state for the input) is drawn relative
   /// to the enriched surface [m], coloured by the enriched state's error against it; zero: not drawn.
   Eigen::Vector3d fineOffset = Eigen::Vector3d::Zero();
+  /// A state's fine truth is the newest fine state stamped at or before it, at most this much earlier [s]: a
+  /// simulator that runs on its own (Bullet) stamps its states itself, while the truth is stamped with the
+  /// tool command it belongs to.
+  double fineStampTolerance = 0.1;
 };
 
 /// Namespaces: enriched_surface, coarse_surface (when options.coarseOffset is not zero), fine_surface (when

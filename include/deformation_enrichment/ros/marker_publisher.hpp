@@ -2,8 +2,9 @@
 // The enrichment node's ~markers topic: keeps the last enriched state (shared pointers, no copy) and draws it
 // (enrichment_markers.hpp) at ~marker_rate, decoding the point clouds only while someone subscribes. With a
 // fine offset it also listens to fine_state, the fine simulation's states of the input stream (a demo or an
-// evaluation publishes them with the stamps of the mesh states they belong to), and draws the one of the
-// drawn state's stamp beside it. It draws on a thread and callback queue of its own, so a draw (decoding and
+// evaluation publishes them with the stamps of the mesh states they belong to; a demo driving a simulator that
+// runs on its own, with the stamps of its tool commands), and draws the newest one stamped at or before the
+// drawn state, within ~marker_fine_tolerance, beside it. It draws on a thread and callback queue of its own, so a draw (decoding and
 // triangulating up to three surfaces) never delays a state.
 #include <ros/callback_queue.h>
 #include <ros/node_handle.h>
@@ -46,7 +47,8 @@ public:
 private:
   void draw(const ros::TimerEvent&);
   void keepFine(const sensor_msgs::PointCloud2ConstPtr& fine);
-  /// The fine state of `stamp` among the last ones received (null: none); mutex_ held.
+  /// The truth of the state stamped `stamp` among the last fine states received: the newest stamped at or
+  /// before it, within options.fineStampTolerance (null: none); mutex_ held.
   sensor_msgs::PointCloud2ConstPtr fineAt(const ros::Time& stamp) const;
 
   ros::CallbackQueue queue_;  // the timer's and fine_state's; declared before them, which remove themselves from it

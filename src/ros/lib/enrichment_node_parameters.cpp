@@ -126,6 +126,7 @@ MarkerOptions readMarkerOptions(const ros::NodeHandle& privateNh) {
     ROS_ERROR("~marker_color '%s' is neither 'displacement' nor 'strain': showing the displacement", color.c_str());
   options.coarseOffset = markerOffset(privateNh, "marker_coarse_offset", "the coarse surface");
   options.fineOffset = markerOffset(privateNh, "marker_fine_offset", "the fine truth");
+  options.fineStampTolerance = checked(privateNh, "marker_fine_tolerance", options.fineStampTolerance, nonNegative, ">= 0");
   return options;
 }
 

@@ -2,7 +2,6 @@
 
 #include <visualization_msgs/MarkerArray.h>
 
-#include <algorithm>
 #include <optional>
 #include <string>
 
@@ -66,8 +65,10 @@ void MarkerPublisher::keepFine(const sensor_msgs::PointCloud2ConstPtr& fine) {
 }
 
 sensor_msgs::PointCloud2ConstPtr MarkerPublisher::fineAt(const ros::Time& stamp) const {
-  const auto match = std::find_if(fine_.rbegin(), fine_.rend(), [&](const auto& fine) { return fine->header.stamp == stamp; });
-  return match == fine_.rend() ? nullptr : *match;
+  sensor_msgs::PointCloud2ConstPtr newest;
+  for (const auto& fine : fine_)
+    if (fine->header.stamp <= stamp && (!newest || fine->header.stamp >= newest->header.stamp)) newest = fine;
+  return newest && stamp - newest->header.stamp <= ros::Duration(options_.fineStampTolerance) ? newest : nullptr;
 }
 
 void MarkerPublisher::keep(const sensor_msgs::PointCloud2ConstPtr& input, const sensor_msgs::PointCloud2ConstPtr& output,
