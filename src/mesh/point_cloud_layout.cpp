@@ -1,6 +1,9 @@
 #include "deformation_enrichment/mesh/point_cloud_layout.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "deformation_enrichment/error.hpp"
 
@@ -56,6 +59,30 @@ void decodePositions(const PointCloudLayout& layout, const std::uint8_t* data, s
         for (int axis = 0; axis < 3; ++axis) std::memcpy(&positions(axis, index), point + offsets[axis], sizeof(float));
     }
   }
+}
+
+float largestMotion(const PointCloudLayout& layout, const std::uint8_t* data, const std::uint8_t* previous, std::size_t size,
+                    float enough) {
+  const auto offsets = xyzOffsets(layout, size);
+  const float enoughSquared = enough * enough;
+  float largest = 0.0f;
+  for (std::uint32_t row = 0; row < layout.height; ++row) {
+    const std::size_t start = static_cast<std::size_t>(row) * layout.rowStep;
+    for (std::uint32_t column = 0; column < layout.width; ++column) {
+      const std::size_t point = start + static_cast<std::size_t>(column) * layout.pointStep;
+      float squared = 0.0f;
+      for (int axis = 0; axis < 3; ++axis) {
+        float now, before;
+        std::memcpy(&now, data + point + offsets[axis], sizeof(float));
+        std::memcpy(&before, previous + point + offsets[axis], sizeof(float));
+        squared += (now - before) * (now - before);
+      }
+      if (!std::isfinite(squared)) return std::numeric_limits<float>::quiet_NaN();
+      if (squared >= enoughSquared) return std::sqrt(squared);
+      largest = std::max(largest, squared);
+    }
+  }
+  return std::sqrt(largest);
 }
 
 Eigen::Matrix3Xf decodePositions(const PointCloudLayout& layout, const std::uint8_t* data, std::size_t size) {

@@ -83,26 +83,28 @@ private:
   void onState(const ros::MessageEvent<const sensor_msgs::PointCloud2>& event) {
     const auto start = Clock::now();
     const sensor_msgs::PointCloud2ConstPtr cloud = event.getConstMessage();
-    // A callback must not throw through roscpp: the waiting loops stop on fault_. Decoded into the buffer of
-    // the state before last, and the message kept by pointer: a simulator may send hundreds of states a step.
+    const long points = static_cast<long>(cloud->width) * cloud->height;
+    if (points != vertices_) {
+      fault_ = "the simulator's mesh_state has " + std::to_string(points) + " points, the scene's display surface " +
+               std::to_string(vertices_) + " vertices";
+      return;
+    }
+    // A callback must not throw through roscpp: the waiting loops stop on fault_. The motion is read from the
+    // messages themselves, and only until a vertex has moved past the tolerance: a simulator sends hundreds
+    // of states a step, nearly all of them still moving. A settled state has been scanned whole: it is finite.
     try {
-      de::ros_layer::positionsFromCloud(*cloud, current_);
+      if (latest_) motion_ = de::ros_layer::largestMotion(*cloud, *latest_, static_cast<float>(settings_.settleTolerance));
+      else motion_ = de::ros_layer::positionsFromCloud(*cloud).allFinite() ? std::numeric_limits<float>::infinity()
+                                                                                : std::numeric_limits<float>::quiet_NaN();
     } catch (const std::exception& e) {
       fault_ = std::string("a mesh_state that cannot be read: ") + e.what();
       return;
     }
-    if (current_.cols() != vertices_) {
-      fault_ = "the simulator's mesh_state has " + std::to_string(current_.cols()) + " points, the scene's display surface " +
-               std::to_string(vertices_) + " vertices";
-      return;
-    }
-    nonFinite_ = nonFinite_ || !current_.allFinite();
-    motion_ = previous_.cols() == current_.cols() ? std::sqrt((current_ - previous_).colwise().squaredNorm().maxCoeff())
-                                                  : std::numeric_limits<float>::infinity();
+    nonFinite_ = nonFinite_ || std::isnan(motion_);
     // A simulator that moves its tool towards the command over several states (and says where it is on
     // measured_cp) is not settled while the tool is on its way, however still the tissue.
     quiet_ = motion_ < settings_.settleTolerance && toolArrived() ? quiet_ + 1 : 0;
-    previous_.swap(current_);
+    previous_ = latest_;
     latest_ = cloud;
     ++received_;
     if (publisher_.empty()) publisher_ = event.getPublisherName(), frame_ = cloud->header.frame_id;
@@ -150,13 +152,19 @@ private:
       if (!fault_.empty()) throw Stop(fault_);
       if (nonFinite_) return "a non-finite state";
       if (ros::WallTime::now() > deadline)
-        return "no settle in " + std::to_string(settings_.settleTimeout) + " s (last motion " + std::to_string(motion_) + " m)";
+        return "no settle in " + std::to_string(settings_.settleTimeout) + " s (last motion " + std::to_string(lastMotion()) + " m)";
       ros::spinOnce();
       ros::WallDuration(0.0005).sleep();
     }
     if (!ros::ok()) throw Stop("shut down");
     if (step) *step = {pose, *latest_};
     return {};
+  }
+
+  // The largest vertex motion between the last two states (infinite before two have arrived).
+  float lastMotion() const {
+    return previous_ ? de::ros_layer::largestMotion(*latest_, *previous_, std::numeric_limits<float>::infinity())
+                     : std::numeric_limits<float>::infinity();
   }
 
   // Rest before an interaction: the simulator's reset (retried once), or the tool lifted clear and the
@@ -198,8 +206,7 @@ private:
   ros::Subscriber states_, measured_;
   std::optional<Eigen::Vector3d> toolAt_, commanded_;  // measured_cp (when the simulator publishes it), servo_cp
   ros::ServiceClient reset_;
-  sensor_msgs::PointCloud2ConstPtr latest_;
-  Eigen::Matrix3Xf previous_, current_;
+  sensor_msgs::PointCloud2ConstPtr latest_, previous_;
   std::uint64_t received_ = 0;
   int quiet_ = 0;
   float motion_ = std::numeric_limits<float>::infinity();

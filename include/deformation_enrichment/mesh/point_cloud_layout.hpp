@@ -42,6 +42,12 @@ Eigen::Matrix3Xf decodePositions(const PointCloudLayout& layout, const std::uint
 /// no allocation per state); x, y, z packed at the start of 12-byte points are copied a row at a time.
 void decodePositions(const PointCloudLayout& layout, const std::uint8_t* data, std::size_t size, Eigen::Matrix3Xf& positions);
 
+/// How far the points of `data` have moved from those of `previous`, two buffers of `size` bytes in `layout`:
+/// the largest distance, or the first one of at least `enough` (the scan stops there: a simulator that is
+/// still moving needs no more). NaN when a point scanned is not finite in either. Throws as xyzOffsets does.
+float largestMotion(const PointCloudLayout& layout, const std::uint8_t* data, const std::uint8_t* previous, std::size_t size,
+                    float enough);
+
 /// Overwrites x, y, z of every point, leaving other fields untouched. Throws InvalidInputError as
 /// xyzOffsets does, or when positions.cols() is not the number of points.
 void encodePositions(const Eigen::Matrix3Xf& positions, const PointCloudLayout& layout, std::uint8_t* data,

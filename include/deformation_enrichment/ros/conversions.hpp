@@ -16,6 +16,10 @@ Eigen::Matrix3Xf positionsFromCloud(const sensor_msgs::PointCloud2& cloud);
 /// The same into `positions`, reusing its storage when the size is the same.
 void positionsFromCloud(const sensor_msgs::PointCloud2& cloud, Eigen::Matrix3Xf& positions);
 
+/// mesh::largestMotion of `cloud` since `previous`. Throws InvalidInputError when either layout is not one
+/// positionsFromCloud accepts, or the two differ.
+float largestMotion(const sensor_msgs::PointCloud2& cloud, const sensor_msgs::PointCloud2& previous, float enough);
+
 /// Overwrites the x, y, z fields of `cloud` (which must already have the layout positionsFromCloud
 /// accepts and positions.cols() points), leaving every other field and the header untouched.
 void writePositions(const Eigen::Matrix3Xf& positions, sensor_msgs::PointCloud2& cloud);

@@ -2,6 +2,7 @@
 
 #include <sensor_msgs/point_cloud2_iterator.h>
 
+#include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/point_cloud_layout.hpp"
 #include "deformation_enrichment/mesh/triangle_mesh_from_cloud.hpp"
 
@@ -29,6 +30,15 @@ Eigen::Matrix3Xf positionsFromCloud(const sensor_msgs::PointCloud2& cloud) {
 
 void positionsFromCloud(const sensor_msgs::PointCloud2& cloud, Eigen::Matrix3Xf& positions) {
   mesh::decodePositions(layoutOf(cloud), cloud.data.data(), cloud.data.size(), positions);
+}
+
+float largestMotion(const sensor_msgs::PointCloud2& cloud, const sensor_msgs::PointCloud2& previous, float enough) {
+  const mesh::PointCloudLayout layout = layoutOf(cloud), before = layoutOf(previous);
+  if (mesh::xyzOffsets(layout, cloud.data.size()) != mesh::xyzOffsets(before, previous.data.size()) ||
+      layout.width != before.width || layout.height != before.height || layout.pointStep != before.pointStep ||
+      layout.rowStep != before.rowStep)
+    throw InvalidInputError("point cloud layout changed between two states");
+  return mesh::largestMotion(layout, cloud.data.data(), previous.data.data(), cloud.data.size(), enough);
 }
 
 void writePositions(const Eigen::Matrix3Xf& positions, sensor_msgs::PointCloud2& cloud) {

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -83,6 +85,30 @@ TEST(PointCloudLayout, PackedXyzRoundTripsRowByRowWithPaddingAndPaddedPoints) {
       EXPECT_EQ(c.data[12], 0xAB) << "the bytes after z untouched";
     }
   }
+}
+
+// The motion between two states read from their buffers: the largest distance over the whole cloud (rows with
+// padding included) when nothing moved as far as `enough`, else the first distance that did; NaN for a
+// non-finite point reached by the scan; a broken layout is named.
+TEST(PointCloudLayout, LargestMotionScansUntilAPointHasMovedEnough) {
+  Cloud before = makeCloud(3, 2, 5), after = makeCloud(3, 2, 5);
+  Eigen::Matrix3Xf p = ramp(6);
+  mesh::encodePositions(p, before.layout, before.data.data(), before.data.size());
+  p.col(1) += Eigen::Vector3f(0.0f, 0.003f, 0.004f);  // 5 mm
+  p.col(4) += Eigen::Vector3f(0.0f, 0.0f, 0.02f);     // 2 cm, in the second row
+  mesh::encodePositions(p, after.layout, after.data.data(), after.data.size());
+  const auto motion = [&](float enough) {
+    return mesh::largestMotion(after.layout, after.data.data(), before.data.data(), after.data.size(), enough);
+  };
+  EXPECT_NEAR(motion(1.0f), 0.02f, 1e-6f);    // nothing moved 1 m: the largest, from the whole cloud
+  EXPECT_NEAR(motion(0.001f), 0.005f, 1e-6f);  // the first point past 1 mm ends the scan
+  EXPECT_EQ(mesh::largestMotion(before.layout, before.data.data(), before.data.data(), before.data.size(), 1e-6f), 0.0f);
+  p(0, 3) = std::numeric_limits<float>::quiet_NaN();
+  mesh::encodePositions(p, after.layout, after.data.data(), after.data.size());
+  EXPECT_TRUE(std::isnan(motion(1.0f)));
+  EXPECT_NEAR(motion(0.001f), 0.005f, 1e-6f);  // the scan stopped before the NaN
+  after.layout.pointStep = 2;
+  expectErrorContaining<de::InvalidInputError>([&] { motion(1.0f); }, "lies outside point_step");
 }
 
 TEST(PointCloudLayout, EmptyCloudDecodesToNoPoints) {
