@@ -3,7 +3,8 @@
 // against every example, combined into Gaussian-kernel weights (eq. 15)
 //   w_i = exp(-d_rho(rho, rho[i])^2 / (2 sigma_rho^2) - d_u(mu, mu[i])^2 / (2 sigma_u^2)).
 // The examples are stored contiguously (one column each, components scaled by sqrt(multiplicity) so the
-// full-tensor metric is Euclidean, mu pre-normalised), so one call is two dense matrix-vector passes.
+// full-tensor metric is Euclidean, mu pre-normalised), so one call is two dense matrix-vector products per
+// block of examples; the blocks of a large table are shared among OpenMP threads, with the same numbers.
 #include <Eigen/Core>
 #include <vector>
 

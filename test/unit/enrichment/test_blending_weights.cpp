@@ -2,6 +2,9 @@
 
 #include <cmath>
 #include <random>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "deformation_enrichment/descriptors/descriptor_distance.hpp"
 #include "deformation_enrichment/enrichment/blending_weights.hpp"
@@ -53,6 +56,43 @@ TEST(BlendingWeights, VectorisedCorrelationMatchesPerExampleDistancesAndEq15) {
   EXPECT_EQ(out.dU[4], 0.0);
   EXPECT_EQ(out.dU[0], 1.0);
   EXPECT_TRUE(out.weights.allFinite());
+}
+
+// A table past the threshold is correlated in blocks shared among threads: the numbers of every example,
+// those next to block boundaries and the lone last one included, match the per-example distances and do not
+// depend on the thread count.
+TEST(BlendingWeights, LargeTablesGiveEveryExampleTheSameNumbersOnAnyThreadCount) {
+  std::mt19937 rng(47);
+  std::vector<hermite::MomentList> rho, mu;
+  const int count = 3 * 4096 * 3 + 1;  // past the parallel threshold, with one example after the last full block
+  for (int i = 0; i < count; ++i) {
+    rho.push_back(randomList(rng, 0, 3, 1));
+    mu.push_back(randomList(rng, 1, 2, 3));
+  }
+  const ExampleDescriptorTable table(rho, mu);
+  const hermite::MomentList queryRho = randomList(rng, 0, 3, 1), queryMu = randomList(rng, 1, 2, 3);
+  const KernelWidths widths{2.0, 0.8};
+  const auto correlateOn = [&](int threads) {
+#ifdef _OPENMP
+    omp_set_num_threads(threads);
+#else
+    (void)threads;
+#endif
+    Correlation out;
+    correlate(table, queryRho, queryMu, widths, out);
+    return out;
+  };
+  const Correlation one = correlateOn(1), two = correlateOn(2);
+#ifdef _OPENMP
+  omp_set_num_threads(omp_get_num_procs());
+#endif
+  EXPECT_TRUE(one.dRho == two.dRho);
+  EXPECT_TRUE(one.dU == two.dU);
+  EXPECT_TRUE(one.weights == two.weights);
+  for (const int i : {0, 4095, 4096, 4097, count / 2, count - 2, count - 1}) {
+    EXPECT_NEAR(two.dRho[i], descriptors::siteDistance(queryRho, rho[i]), 1e-12) << i;
+    EXPECT_NEAR(two.dU[i], descriptors::deformationDistance(queryMu, mu[i]), 1e-12) << i;
+  }
 }
 
 TEST(BlendingWeights, BadInput) {
