@@ -113,6 +113,7 @@ if(CATKIN_ENABLE_TESTING)
     test/ros/test_enrichment_markers.cpp DEPENDS enrichment_node deformation_enrichment_nodelets)
   add_rostest(test/ros/enrichment_knobs_nodelet.test DEPENDENCIES test_enrichment_knobs)
   add_rostest(test/ros/demo.test DEPENDENCIES ${DE_NODE_TARGETS})
+  add_rostest(test/ros/demo_simulator_truth.test DEPENDENCIES ${DE_NODE_TARGETS})
   set_tests_properties(_ctest_${PROJECT_NAME}_rostest_test_ros_demo.test PROPERTIES
     FIXTURES_REQUIRED slab_set ENVIRONMENT DE_TEST_SLAB_SET=${DE_TEST_SLAB_SET})
   # rosrun / roslaunch as a user runs them, from the devel space's environment.
