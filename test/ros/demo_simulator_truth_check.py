@@ -10,15 +10,14 @@ import numpy as np
 import rospy
 import rostest
 from geometry_msgs.msg import PoseStamped
+from sensor_msgs import point_cloud2
 from sensor_msgs.msg import PointCloud2
 
 FINE_STATES = 90
 
 
 def xyz(cloud):
-    points = np.frombuffer(cloud.data, dtype=np.uint8).reshape(cloud.height * cloud.width, cloud.point_step)
-    offsets = {f.name: f.offset for f in cloud.fields}
-    return np.stack([points[:, offsets[a]:offsets[a] + 4].copy().view(np.float32)[:, 0] for a in "xyz"], axis=1)
+    return np.array(list(point_cloud2.read_points(cloud, field_names=("x", "y", "z"))), dtype=np.float64).reshape(-1, 3)
 
 
 class TruthOfEachCommand(unittest.TestCase):
