@@ -22,6 +22,7 @@
 
 namespace de = deformation_enrichment;
 using Clock = std::chrono::steady_clock;
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
 namespace {
 
@@ -93,9 +94,9 @@ private:
     // messages themselves, and only until a vertex has moved past the tolerance: a simulator sends hundreds
     // of states a step, nearly all of them still moving. A settled state has been scanned whole: it is finite.
     try {
-      if (latest_) motion_ = de::ros_layer::largestMotion(*cloud, *latest_, static_cast<float>(settings_.settleTolerance));
-      else motion_ = de::ros_layer::positionsFromCloud(*cloud).allFinite() ? std::numeric_limits<float>::infinity()
-                                                                                : std::numeric_limits<float>::quiet_NaN();
+      const float tolerance = static_cast<float>(settings_.settleTolerance);
+      if (latest_) motion_ = de::ros_layer::largestMotion(*cloud, *latest_, tolerance);
+      else motion_ = de::ros_layer::positionsFromCloud(*cloud).allFinite() ? kInfinity : std::numeric_limits<float>::quiet_NaN();
     } catch (const std::exception& e) {
       fault_ = std::string("a mesh_state that cannot be read: ") + e.what();
       return;
@@ -162,10 +163,7 @@ private:
   }
 
   // The largest vertex motion between the last two states (infinite before two have arrived).
-  float lastMotion() const {
-    return previous_ ? de::ros_layer::largestMotion(*latest_, *previous_, std::numeric_limits<float>::infinity())
-                     : std::numeric_limits<float>::infinity();
-  }
+  float lastMotion() const { return previous_ ? de::ros_layer::largestMotion(*latest_, *previous_, kInfinity) : kInfinity; }
 
   // Rest before an interaction: the simulator's reset (retried once), or the tool lifted clear and the
   // tissue left to settle.
@@ -209,7 +207,7 @@ private:
   sensor_msgs::PointCloud2ConstPtr latest_, previous_;
   std::uint64_t received_ = 0;
   int quiet_ = 0;
-  float motion_ = std::numeric_limits<float>::infinity();
+  float motion_ = kInfinity;
   bool nonFinite_ = false, warnedNoReset_ = false;
   std::string publisher_, frame_, fault_;
   double overhead_ = 0.0;

@@ -264,7 +264,7 @@ void scriptSimulatorTool(ros::NodeHandle& nh, const de::acquisition::SceneAcquis
     const Eigen::Vector3d centre = s > 0.0 ? between(c, k, f)
                                            : Eigen::Vector3d(c.front() - std::max(radius, 2.0 * path.depth) * path.inward);
     if (const auto finePath = fine ? fine->path(tap) : nullptr)
-      finePub.publish(de::ros_layer::cloudFromPositions(between(*finePath, k, s > 0.0 ? f : 0.0).cast<float>(), header));
+      finePub.publish(de::ros_layer::cloudFromPositions(between(*finePath, k, f).cast<float>(), header));
     commandPub.publish(de::ros_layer::poseAt(centre, header));
     de::ToolContactArray contacts;
     contacts.header = header;

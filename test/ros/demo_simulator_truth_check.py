@@ -1,8 +1,9 @@
 #!/usr/bin/python3
 """rostest node for demo_simulator_truth.test: the fine truth that demo_scene_node publishes beside a simulator
-that stamps its own states. Collects servo_cp and fine_state until 90 fine states have arrived (3 s of taps) (the first tap's
-fine path is solved in the background first) and passes when every fine state has the stamp of a command, the
-scene's display-vertex count of finite points, and some are dented (more than 1 mm from the first one)."""
+that stamps its own states. Collects servo_cp and fine_state until 90 fine states (3 s of taps) have
+arrived (the taps' fine paths are solved in the background first), and passes when every fine state has the stamp
+of a command, the scene's display-vertex count of finite points, and some are dented (more than 1 mm from the
+first one)."""
 import sys
 import unittest
 

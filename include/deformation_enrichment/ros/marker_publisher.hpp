@@ -4,8 +4,8 @@
 // fine offset it also listens to fine_state, the fine simulation's states of the input stream (a demo or an
 // evaluation publishes them with the stamps of the mesh states they belong to; a demo driving a simulator that
 // runs on its own, with the stamps of its tool commands), and draws the newest one stamped at or before the
-// drawn state, within ~marker_fine_tolerance, beside it. It draws on a thread and callback queue of its own, so a draw (decoding and
-// triangulating up to three surfaces) never delays a state.
+// drawn state, within ~marker_fine_tolerance, beside it. It draws on a thread and callback queue of its own,
+// so a draw (decoding and triangulating up to three surfaces) never delays a state.
 #include <ros/callback_queue.h>
 #include <ros/node_handle.h>
 #include <ros/spinner.h>
