@@ -171,7 +171,7 @@ protected:
   /// under "dropped mesh_state: <reason>", and the node survives.
   void expectDroppedAndSurvived(const sensor_msgs::PointCloud2& bad, const std::string& fragment, const std::string& reason) {
     const std::string key = "dropped mesh_state: " + reason;
-    const std::string before = diagnosticValue(key);
+    const std::string before = nextDiagnosticValue(key);
     const std::string expected = std::to_string((before.empty() ? 0L : std::stol(before)) + 1);
     EXPECT_FALSE(roundTrip(bad, 1.0)) << "a bad state was published: " << fragment;
     EXPECT_TRUE(logged(fragment)) << "no error on /rosout containing '" << fragment << "'";
@@ -193,6 +193,16 @@ protected:
 
   /// The value of `key` in a /diagnostics status of the node received after this call, "" if none came.
   std::string diagnosticValue(const std::string& key, double seconds = 5.0) {
+    return diagnosticAfterThisCall(key, seconds, true);
+  }
+
+  /// The value of `key` in the first /diagnostics status of the node received after this call, "" if that
+  /// status has no such key (a count with nothing counted yet) or none came.
+  std::string nextDiagnosticValue(const std::string& key, double seconds = 5.0) {
+    return diagnosticAfterThisCall(key, seconds, false);
+  }
+
+  std::string diagnosticAfterThisCall(const std::string& key, double seconds, bool untilTheKeyShows) {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       diagnostics_.clear();
@@ -203,7 +213,7 @@ protected:
       for (const auto& d : diagnostics_)
         for (const auto& kv : d.values)
           if (kv.key == key) value = kv.value;
-      return !value.empty();
+      return !value.empty() || (!untilTheKeyShows && !diagnostics_.empty());
     }, seconds);
     return value;
   }
