@@ -38,12 +38,12 @@ void bounds(enrichment::ContactEnricher& enricher, const HeldOutCase& c, const e
   s.oracleRms = std::sqrt((target - E * w).squaredNorm() / static_cast<double>(vertices.size()));
 }
 
-template <typename Value>
-double meanOver(const std::vector<ContactScore>& contacts, Value value) {
+template <typename Ratio>
+double meanOver(const std::vector<ContactScore>& contacts, Ratio ratio) {
   double sum = 0.0;
   int n = 0;
   for (const ContactScore& c : contacts)
-    if (c.coarseRms > 0.0) sum += value(c) / c.coarseRms, ++n;
+    if (c.coarseRms > 0.0) sum += ratio(c), ++n;
   return n ? sum / n : 0.0;
 }
 
@@ -68,14 +68,36 @@ std::vector<HeldOutCase> simulateHeldOut(SceneAcquisition& acquisition, const st
   return cases;
 }
 
-double HeldOutScore::meanRatio() const { return meanOver(contacts, [](const ContactScore& c) { return c.enrichedRms; }); }
-double HeldOutScore::meanOracleRatio() const { return meanOver(contacts, [](const ContactScore& c) { return c.oracleRms; }); }
-double HeldOutScore::meanOwnStampRatio() const { return meanOver(contacts, [](const ContactScore& c) { return c.ownStampRms; }); }
+double ContactScore::ratioAtGain(double factor) const {
+  return std::sqrt(std::max(0.0, 1.0 - 2.0 * factor * detailAlong + factor * factor * detailSize));
+}
+
+double HeldOutScore::meanRatio() const { return meanOver(contacts, [](const ContactScore& c) { return c.enrichedRms / c.coarseRms; }); }
+double HeldOutScore::meanOracleRatio() const { return meanOver(contacts, [](const ContactScore& c) { return c.oracleRms / c.coarseRms; }); }
+double HeldOutScore::meanOwnStampRatio() const {
+  return meanOver(contacts, [](const ContactScore& c) { return c.ownStampRms / c.coarseRms; });
+}
+double HeldOutScore::meanRatioAtGain(double factor) const {
+  return meanOver(contacts, [factor](const ContactScore& c) { return c.ratioAtGain(factor); });
+}
 
 double HeldOutScore::worstRatio() const {
   double worst = 0.0;
   for (const ContactScore& c : contacts) worst = std::max(worst, c.ratio());
   return worst;
+}
+
+double HeldOutScore::worstRatioAtGain(double factor) const {
+  double worst = 0.0;
+  for (const ContactScore& c : contacts)
+    if (c.coarseRms > 0.0) worst = std::max(worst, c.ratioAtGain(factor));
+  return worst;
+}
+
+double HeldOutScore::bestGain() const {
+  double along = 0.0, size = 0.0;
+  for (const ContactScore& c : contacts) along += c.detailAlong, size += c.detailSize;
+  return size > 0.0 ? along / size : 0.0;
 }
 
 double HeldOutScore::medianSecondsPerFrame() const {
@@ -107,13 +129,18 @@ HeldOutScore scoreHeldOut(enrichment::ContactEnricher& enricher, const std::vect
     for (Eigen::Index v = 0; v < rest.cols(); ++v)
       if ((rest.col(v) - c.contact.point).norm() < R) vertices.push_back(static_cast<int>(v));
     const Eigen::Matrix3Xd missing = c.result.fine(Eigen::all, vertices) - c.result.coarseOnFine(Eigen::all, vertices);
-    const Eigen::Matrix3Xd left = missing - onVertices(result.enrichment, vertices);
+    const Eigen::Matrix3Xd detail = onVertices(result.enrichment, vertices);
+    const Eigen::Matrix3Xd left = missing - detail;
     ContactScore s;
     s.vertices = static_cast<long>(vertices.size());
     s.coarseRms = rootMeanSquare(missing);
     s.enrichedRms = rootMeanSquare(left);
     s.coarseMax = s.vertices ? missing.colwise().norm().maxCoeff() : 0.0;
     s.enrichedMax = s.vertices ? left.colwise().norm().maxCoeff() : 0.0;
+    if (const double missingSq = missing.squaredNorm(); missingSq > 0.0) {
+      s.detailAlong = detail.cwiseProduct(missing).sum() / missingSq;
+      s.detailSize = detail.squaredNorm() / missingSq;
+    }
     s.outcome = result.contacts.at(0);
     s.timings = result.timings;
     if (withBounds == Bounds::Compute && s.vertices > 0) bounds(enricher, c, s.outcome.description, vertices, missing, s);

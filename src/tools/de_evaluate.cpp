@@ -125,9 +125,18 @@ mesh::TriangleMesh openSurface(const scenes::SceneModels& models) {
   return open;
 }
 
+// The factor on the stamp gain with the least squared per-contact ratios given the truth, and the ratios at
+// it: null when no contact got detail.
+json gainGivenTruth(const acquisition::HeldOutScore& s) {
+  const double factor = s.bestGain();
+  if (!(factor > 0.0)) return nullptr;
+  return {{"factor", factor}, {"mean_ratio", s.meanRatioAtGain(factor)}, {"worst_ratio", s.worstRatioAtGain(factor)}};
+}
+
 json summary(const acquisition::HeldOutScore& s) {
   return {{"ratio", s.ratio()}, {"mean_ratio", s.meanRatio()}, {"worst_ratio", s.worstRatio()},
-          {"enriched_rms", s.enrichedRms}, {"coarse_rms", s.coarseRms}, {"seconds_per_frame", s.secondsPerFrame}};
+          {"enriched_rms", s.enrichedRms}, {"coarse_rms", s.coarseRms}, {"seconds_per_frame", s.secondsPerFrame},
+          {"gain_given_truth", gainGivenTruth(s)}};
 }
 
 // Everything one evaluation needs: the scene, its solves, the set and the enricher it is scored with.
@@ -214,6 +223,7 @@ json perContact(const std::vector<acquisition::HeldOutCase>& cases, const acquis
                    {"drag", vec(c.drag)}, {"vertices", s.vertices}, {"ratio", s.ratio()},
                    {"coarse_rms", s.coarseRms}, {"enriched_rms", s.enrichedRms}, {"oracle_rms", s.oracleRms},
                    {"own_stamp_rms", s.ownStampRms}, {"coarse_max", s.coarseMax},
+                   {"best_gain_factor", s.detailSize > 0.0 ? json(s.detailAlong / s.detailSize) : json(nullptr)},
                    {"enriched_max", s.enrichedMax}, {"confidence", s.outcome.confidence},
                    {"weights", std::vector<double>(w.data(), w.data() + w.size())},
                    {"frame_rule", descriptors::toString(s.outcome.description.frameRule)},
@@ -246,7 +256,7 @@ json report(const Evaluation& ev, const std::vector<acquisition::PlanEntry>& con
           {"coarse_rms", score.coarseRms}, {"enriched_rms", score.enrichedRms}, {"ratio", score.ratio()},
           {"mean_ratio", score.meanRatio()}, {"worst_ratio", score.worstRatio()},
           {"oracle_mean_ratio", score.meanOracleRatio()}, {"own_stamp_mean_ratio", score.meanOwnStampRatio()},
-          {"coarse_max", score.coarseMax}, {"enriched_max", score.enrichedMax},
+          {"gain_given_truth", gainGivenTruth(score)}, {"coarse_max", score.coarseMax}, {"enriched_max", score.enrichedMax},
           {"compute_seconds_per_frame", score.secondsPerFrame}, {"per_contact", contactsJson}};
 }
 

@@ -10,6 +10,10 @@
 //     w_i e_i| with e_i stamp i placed at the contact (eq. 1). No blend of these stamps does better.
 //   - the own stamp: the stamp an example at exactly this interaction would carry, placed at the contact;
 //     what remains is what the stamp representation and the rim fade lose, however good the blend.
+// And one factor on the detail given the truth: with m = fine - coarse and d the added detail on a contact's
+// vertices, its ratio at a factor g on d is sqrt(1 - 2 g <d, m> / |m|^2 + g^2 |d|^2 / |m|^2), and the g with
+// the least sum of squared per-contact ratios is sum_c <d, m>_c / |m_c|^2 over sum_c |d_c|^2 / |m_c|^2: how
+// far the stamp gain is from the best one (a transfer's material scale, the regression's shrinkage).
 #include <functional>
 #include <opencv2/core.hpp>
 #include <vector>
@@ -39,9 +43,12 @@ struct ContactScore {
   long vertices = 0;  ///< fine surface vertices within the stamp radius
   double coarseRms = 0.0, enrichedRms = 0.0, coarseMax = 0.0, enrichedMax = 0.0;  ///< metres
   double oracleRms = 0.0, ownStampRms = 0.0;  ///< the bounds above (metres), when asked for
+  double detailAlong = 0.0, detailSize = 0.0;  ///< <d, m> / |m|^2 and |d|^2 / |m|^2 (0 without coarse error)
   enrichment::ContactOutcome outcome;   ///< descriptors, weights, confidence
   enrichment::EnrichmentTimings timings;  ///< of the median-time repetition
   double ratio() const { return coarseRms > 0.0 ? enrichedRms / coarseRms : 0.0; }
+  /// The ratio with the detail scaled by `factor` (ratio() at 1, up to round-off).
+  double ratioAtGain(double factor) const;
 };
 
 struct HeldOutScore {
@@ -55,6 +62,11 @@ struct HeldOutScore {
   /// Mean per-contact ratio of the oracle and of the own stamp.
   double meanOracleRatio() const;
   double meanOwnStampRatio() const;
+  /// The factor on the detail with the least sum of squared per-contact ratios (see above); 0 when no
+  /// contact got detail. The mean and largest per-contact ratio at a factor.
+  double bestGain() const;
+  double meanRatioAtGain(double factor) const;
+  double worstRatioAtGain(double factor) const;
   /// Median over contacts of the median enrichment time.
   double medianSecondsPerFrame() const;
 };

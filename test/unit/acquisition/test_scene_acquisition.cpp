@@ -109,6 +109,41 @@ TEST(SceneAcquisition, HeldOutScoresDependNeitherOnRepetitionsNorOnTheBounds) {
   for (std::size_t i = 0; i < stamps.size(); ++i) EXPECT_EQ(cv::norm(enricher.blender()->stamps()[i], stamps[i], cv::NORM_INF), 0.0);
 }
 
+TEST(SceneAcquisition, GainGivenTheTruthIsWhatRescoringAtThatGainGives) {
+  // The best factor on the detail, from one scoring, against scoring again with the stamp gain scaled by it.
+  acquisition::SceneAcquisition acq(de_test::tinySlab());
+  std::vector<acquisition::PlanEntry> plan(2), held(2);
+  plan[0].point = Eigen::Vector3d(0.0, 0.0, 0.02), plan[0].depth = 0.003;
+  plan[1].point = Eigen::Vector3d(0.012, 0.004, 0.02), plan[1].depth = 0.002;
+  held[0].point = Eigen::Vector3d(0.004, 0.002, 0.02), held[0].depth = 0.0025;
+  held[1].point = Eigen::Vector3d(0.008, -0.003, 0.02), held[1].depth = 0.0015;
+  examples::ExampleSet set;
+  set.metadata.scene = "slab";
+  for (const auto& e : plan) set.examples.push_back(acq.makeExample(e, acq.simulate(e)));
+  enrichment::ContactEnricher enricher(acq.fineSurface(), acquisition::enricherOptions(acq.scene()));
+  enricher.setExamples(set, enrichment::ExampleBlenderOptions());
+  enricher.setDetailGain({0.4, 0.0});  // far from the best: the factor must bring it back
+  const std::vector<acquisition::HeldOutCase> cases = acquisition::simulateHeldOut(acq, held);
+  const acquisition::HeldOutScore score = acquisition::scoreHeldOut(enricher, cases, 1);
+  for (const acquisition::ContactScore& c : score.contacts) EXPECT_NEAR(c.ratioAtGain(1.0), c.ratio(), 1e-9);
+  const double g = score.bestGain();
+  ASSERT_GT(g, 1.0);
+  const auto squares = [&](double factor) {
+    double sum = 0.0;
+    for (const acquisition::ContactScore& c : score.contacts) sum += c.ratioAtGain(factor) * c.ratioAtGain(factor);
+    return sum;
+  };
+  EXPECT_LT(squares(g), squares(g * 0.9));
+  EXPECT_LT(squares(g), squares(g * 1.1));
+  EXPECT_LT(score.meanRatioAtGain(g), score.meanRatio());
+  enricher.setDetailGain({0.4 * g, 0.0});
+  const acquisition::HeldOutScore rescored = acquisition::scoreHeldOut(enricher, cases, 1);
+  for (std::size_t i = 0; i < cases.size(); ++i) EXPECT_NEAR(score.contacts[i].ratioAtGain(g), rescored.contacts[i].ratio(), 1e-9);
+  EXPECT_NEAR(score.meanRatioAtGain(g), rescored.meanRatio(), 1e-9);
+  EXPECT_NEAR(score.worstRatioAtGain(g), rescored.worstRatio(), 1e-9);
+  EXPECT_NEAR(rescored.bestGain(), 1.0, 1e-9);
+}
+
 TEST(SceneAcquisition, AcquiredSetResumesWithoutRecomputing) {
   auto o = de_test::tinySlab();
   acquisition::SceneAcquisition acq(o);
