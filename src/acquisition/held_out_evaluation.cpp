@@ -72,6 +72,8 @@ double ContactScore::ratioAtGain(double factor) const {
   return std::sqrt(std::max(0.0, 1.0 - 2.0 * factor * detailAlong + factor * factor * detailSize));
 }
 
+double ContactScore::bestGain() const { return detailSize > 0.0 ? std::max(0.0, detailAlong / detailSize) : 0.0; }
+
 double HeldOutScore::meanRatio() const { return meanOver(contacts, [](const ContactScore& c) { return c.enrichedRms / c.coarseRms; }); }
 double HeldOutScore::meanOracleRatio() const { return meanOver(contacts, [](const ContactScore& c) { return c.oracleRms / c.coarseRms; }); }
 double HeldOutScore::meanOwnStampRatio() const {
@@ -97,7 +99,7 @@ double HeldOutScore::worstRatioAtGain(double factor) const {
 double HeldOutScore::bestGain() const {
   double along = 0.0, size = 0.0;
   for (const ContactScore& c : contacts) along += c.detailAlong, size += c.detailSize;
-  return size > 0.0 ? along / size : 0.0;
+  return size > 0.0 ? std::max(0.0, along / size) : 0.0;
 }
 
 double HeldOutScore::medianSecondsPerFrame() const {

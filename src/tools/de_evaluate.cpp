@@ -7,6 +7,7 @@
 // Fig. 7]); --curves scores stamp resolutions and Hermite orders (run time against error). Plot both with
 // scripts/plot_evaluation.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -128,8 +129,8 @@ mesh::TriangleMesh openSurface(const scenes::SceneModels& models) {
 // The factor on the stamp gain with the least squared per-contact ratios given the truth, and the ratios at
 // it: null when no contact got detail.
 json gainGivenTruth(const acquisition::HeldOutScore& s) {
+  if (std::none_of(s.contacts.begin(), s.contacts.end(), [](const auto& c) { return c.detailSize > 0.0; })) return nullptr;
   const double factor = s.bestGain();
-  if (!(factor > 0.0)) return nullptr;
   return {{"factor", factor}, {"mean_ratio", s.meanRatioAtGain(factor)}, {"worst_ratio", s.worstRatioAtGain(factor)}};
 }
 
@@ -223,7 +224,7 @@ json perContact(const std::vector<acquisition::HeldOutCase>& cases, const acquis
                    {"drag", vec(c.drag)}, {"vertices", s.vertices}, {"ratio", s.ratio()},
                    {"coarse_rms", s.coarseRms}, {"enriched_rms", s.enrichedRms}, {"oracle_rms", s.oracleRms},
                    {"own_stamp_rms", s.ownStampRms}, {"coarse_max", s.coarseMax},
-                   {"best_gain_factor", s.detailSize > 0.0 ? json(s.detailAlong / s.detailSize) : json(nullptr)},
+                   {"best_gain_factor", s.detailSize > 0.0 ? json(s.bestGain()) : json(nullptr)},
                    {"enriched_max", s.enrichedMax}, {"confidence", s.outcome.confidence},
                    {"weights", std::vector<double>(w.data(), w.data() + w.size())},
                    {"frame_rule", descriptors::toString(s.outcome.description.frameRule)},

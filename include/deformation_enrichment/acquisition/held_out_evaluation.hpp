@@ -12,8 +12,9 @@
 //     what remains is what the stamp representation and the rim fade lose, however good the blend.
 // And one factor on the detail given the truth: with m = fine - coarse and d the added detail on a contact's
 // vertices, its ratio at a factor g on d is sqrt(1 - 2 g <d, m> / |m|^2 + g^2 |d|^2 / |m|^2), and the g with
-// the least sum of squared per-contact ratios is sum_c <d, m>_c / |m_c|^2 over sum_c |d_c|^2 / |m_c|^2: how
-// far the stamp gain is from the best one (a transfer's material scale, the regression's shrinkage).
+// the least sum of squared per-contact ratios is sum_c <d, m>_c / |m_c|^2 over sum_c |d_c|^2 / |m_c|^2, or 0
+// where that is negative (a stamp gain is >= 0): how far the stamp gain is from the best one (a transfer's
+// material scale, the regression's shrinkage).
 #include <functional>
 #include <opencv2/core.hpp>
 #include <vector>
@@ -49,6 +50,8 @@ struct ContactScore {
   double ratio() const { return coarseRms > 0.0 ? enrichedRms / coarseRms : 0.0; }
   /// The ratio with the detail scaled by `factor` (ratio() at 1, up to round-off).
   double ratioAtGain(double factor) const;
+  /// This contact's best factor (see above); 0 without detail.
+  double bestGain() const;
 };
 
 struct HeldOutScore {
@@ -63,7 +66,8 @@ struct HeldOutScore {
   double meanOracleRatio() const;
   double meanOwnStampRatio() const;
   /// The factor on the detail with the least sum of squared per-contact ratios (see above); 0 when no
-  /// contact got detail. The mean and largest per-contact ratio at a factor.
+  /// contact got detail or the detail points away from the truth. The mean and largest per-contact ratio at
+  /// a factor.
   double bestGain() const;
   double meanRatioAtGain(double factor) const;
   double worstRatioAtGain(double factor) const;

@@ -144,6 +144,20 @@ TEST(SceneAcquisition, GainGivenTheTruthIsWhatRescoringAtThatGainGives) {
   EXPECT_NEAR(rescored.bestGain(), 1.0, 1e-9);
 }
 
+TEST(SceneAcquisition, GainGivenTheTruthIsNeverNegative) {
+  // Detail that points away from the truth: the best admissible stamp gain is none, and its ratio 1.
+  acquisition::HeldOutScore score;
+  score.contacts.resize(2);
+  for (acquisition::ContactScore& c : score.contacts) c.coarseRms = 1e-3, c.detailAlong = -0.2, c.detailSize = 0.5;
+  EXPECT_EQ(score.contacts[0].bestGain(), 0.0);
+  EXPECT_EQ(score.bestGain(), 0.0);
+  EXPECT_EQ(score.meanRatioAtGain(score.bestGain()), 1.0);
+  score.contacts[1].detailAlong = 0.6;  // together they point towards it: (0.6 - 0.2) / (0.5 + 0.5)
+  EXPECT_DOUBLE_EQ(score.bestGain(), 0.4);
+  EXPECT_DOUBLE_EQ(score.contacts[1].bestGain(), 1.2);
+  EXPECT_EQ(acquisition::HeldOutScore().bestGain(), 0.0);  // no contact, no detail
+}
+
 TEST(SceneAcquisition, AcquiredSetResumesWithoutRecomputing) {
   auto o = de_test::tinySlab();
   acquisition::SceneAcquisition acq(o);
