@@ -3,12 +3,15 @@
 // B presses beside it for 10 s of every 20 (it joins and leaves); the enrichment node's markers are
 // subscribed all along. Over ~seconds it counts the states sent and the enriched states received (every one
 // must come back), the latency of each (receipt time minus the state's stamp, its sending time), and samples
-// the resident memory of the process ~process_name (enrichment_node) every second. It prints one JSON line
+// the resident memory of the process ~process_name (enrichment_node) every second. 5 s in, it stops the node
+// for 80 ms (SIGSTOP), a stall of the host that the node's input queue must ride out. It prints one JSON line
 // and exits 0 when no state was lost, at least 90 % of the states got detail and some both tools', and the
-// memory held flat: the mean of the last minute within 2 % of the second minute's (runs under three
-// minutes: the last quarter against the second).
+// memory held flat: the median of the last minute within 2 % of the second minute's (runs under three
+// minutes: the last quarter's at most 2 % above the second's, as the allocator may return a stall's buffers).
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <ros/ros.h>
+#include <signal.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include <algorithm>
@@ -30,6 +33,9 @@ namespace {
 
 constexpr double kDepth = 0.002, kWidth = 0.006;  // the dents' depth and Gaussian width (m)
 constexpr double kTop = 0.02;
+// The node is stopped once, kNodePauseAt s in, for kNodePause s: five states arrive meanwhile. Before the
+// memory's first window, so that window holds the input queue at its fullest.
+constexpr double kNodePauseAt = 5.0, kNodePause = 0.08;
 
 // The process whose executable is named `name` (the first found), 0 when there is none.
 int findProcess(const std::string& name) {
@@ -72,17 +78,32 @@ double percentile(std::vector<double> values, double q) {
   return values[k];
 }
 
-double mean(const std::vector<long>& v, std::size_t from, std::size_t to) {
-  double sum = 0.0;
-  for (std::size_t i = from; i < to; ++i) sum += static_cast<double>(v[i]);
-  return to > from ? sum / static_cast<double>(to - from) : 0.0;
+// The median of v[from, to): a stall's transient buffers do not move it, a leak does.
+double median(const std::vector<long>& v, std::size_t from, std::size_t to) {
+  if (to <= from) return 0.0;
+  using Offset = std::ptrdiff_t;
+  return percentile(std::vector<double>(v.begin() + static_cast<Offset>(from), v.begin() + static_cast<Offset>(to)), 0.5);
 }
+// A fixed-rate schedule that never bursts: after a stall of the driver itself (the host did not run it), the
+// slots it missed are skipped and counted, as ros::Rate does, instead of sent back to back.
+struct Schedule {
+  double period, next = 0.0;
+  long missed = 0;
+  bool due(double t) {
+    if (t < next) return false;
+    const double late = std::floor((t - next) / period);
+    missed += static_cast<long>(late);
+    next += (late + 1.0) * period;
+    return true;
+  }
+};
 
 // What the driver observes of the node's outputs, from the start of the measurement on.
 struct Observed {
   ros::Time measureFrom;  // states stamped from then on are counted (zero: not yet)
   long received = 0, markers = 0;
   long withDetail = 0, withTwoTools = 0;  // states whose status shows stamps placed / both tools in contact
+  long lostBeforeTheNode = 0;  // the node's own count (/diagnostics) of states that never reached its callback
   std::vector<double> latencyMs;
 };
 
@@ -100,58 +121,72 @@ bool waitForNode(ros::NodeHandle& nh, ros::Publisher& statePub, sensor_msgs::Poi
   return true;
 }
 
-// States at stateRate with tool A's dent (and tool B's while present), poses at poseRate, the node's resident
-// memory once a second, for `seconds`; returns the states sent.
-long drive(double seconds, double stateRate, double poseRate, const Eigen::Matrix3Xf& rest, sensor_msgs::PointCloud2& cloud,
-           ros::Publisher& statePub, ros::Publisher& posePubA, ros::Publisher& posePubB, int pid, std::vector<long>& memory) {
+// What the driver did: the states it sent, the state slots it missed while it was not run itself, its
+// longest pause between two turns of its loop, and the node's resident memory once a second.
+struct Driven {
+  long sent = 0, missed = 0;
+  double longestPauseMs = 0.0;
+  bool nodePaused = false;  // the node was stopped for kNodePause
+  std::vector<long> memory;
+};
+
+// States at stateRate with tool A's dent (and tool B's while present), poses at poseRate, for `seconds`.
+Driven drive(double seconds, double stateRate, double poseRate, const Eigen::Matrix3Xf& rest, sensor_msgs::PointCloud2& cloud,
+             ros::Publisher& statePub, ros::Publisher& posePubA, ros::Publisher& posePubB, int pid) {
   std_msgs::Header header = cloud.header;
-  long sent = 0;
+  Driven d;
   Eigen::Matrix3Xf positions = rest;
   const ros::WallTime start = ros::WallTime::now();
-  double nextState = 0.0, nextPose = 0.0, nextSample = 0.0;
+  Schedule states{1.0 / stateRate}, poses{1.0 / poseRate}, samples{1.0};
+  double previous = 0.0;
+  bool paused = false, resumed = false;
   for (double t = 0.0; ros::ok() && t < seconds; t = (ros::WallTime::now() - start).toSec()) {
-    if (t >= nextPose) {
+    d.longestPauseMs = std::max(d.longestPauseMs, 1e3 * (t - previous));
+    previous = t;
+    if (poses.due(t)) {
       header.stamp = ros::Time::now();
       posePubA.publish(de::ros_layer::poseAt(toolA(t), header));
       if (toolBPresent(t)) posePubB.publish(de::ros_layer::poseAt(kToolB, header));
-      nextPose += 1.0 / poseRate;
     }
-    if (t >= nextState) {
+    if (states.due(t)) {
       positions = rest;
       dent(rest, toolA(t), positions);
       if (toolBPresent(t)) dent(rest, kToolB, positions);
       cloud.header.stamp = ros::Time::now();
       de::ros_layer::writePositions(positions, cloud);
       statePub.publish(cloud);
-      ++sent;
-      nextState += 1.0 / stateRate;
+      ++d.sent;
     }
-    if (t >= nextSample) {
-      memory.push_back(residentKb(pid));
-      nextSample += 1.0;
-    }
+    if (samples.due(t)) d.memory.push_back(residentKb(pid));
+    if (pid != 0 && !paused && t >= kNodePauseAt) paused = kill(pid, SIGSTOP) == 0;  // the host stalls the node
+    if (paused && !resumed && t >= kNodePauseAt + kNodePause) resumed = kill(pid, SIGCONT) == 0;
     ros::spinOnce();
     ros::WallDuration(2e-4).sleep();
   }
-  return sent;
+  if (paused && !resumed) kill(pid, SIGCONT);
+  d.missed = states.missed;
+  d.nodePaused = paused;
+  return d;
 }
 
-// Prints the soak's JSON line; true if every state came back, the memory stayed flat (last minute within 2 %
-// of the second, or the last quarter of a short run within 2 % of its second quarter) and detail was placed.
-bool report(double seconds, Eigen::Index vertices, long sent, const Observed& o, const std::vector<long>& memory) {
-  const std::size_t n = memory.size();
+// Prints the soak's JSON line; true if every state came back, the memory held flat (last minute within 2 % of
+// the second; a short run's last quarter at most 2 % above its second) and detail was placed.
+bool report(double seconds, Eigen::Index vertices, const Driven& d, const Observed& o) {
+  const std::size_t n = d.memory.size();
   const bool minutes = seconds >= 180.0;
-  const double early = minutes ? mean(memory, 60, 120) : mean(memory, n / 4, n / 2);
-  const double late = minutes ? mean(memory, n - 60, n) : mean(memory, 3 * n / 4, n);
+  const double early = minutes ? median(d.memory, 60, 120) : median(d.memory, n / 4, n / 2);
+  const double late = minutes ? median(d.memory, n - 60, n) : median(d.memory, 3 * n / 4, n);
   const double growth = early > 0.0 ? late / early - 1.0 : 0.0;
-  const bool ok = o.received == sent && early > 0.0 && std::abs(growth) <= 0.02 && o.withDetail >= sent * 9 / 10 && o.withTwoTools > 0;
+  // A short run may also fall: after a stall the allocator may return the queue's megabyte buffers.
+  const bool flat = minutes ? std::abs(growth) <= 0.02 : growth <= 0.02;
+  const bool ok = o.received == d.sent && early > 0.0 && flat && o.withDetail >= d.sent * 9 / 10 && o.withTwoTools > 0;
   std::printf("soak: {\"seconds\": %.0f, \"vertices\": %ld, \"states_sent\": %ld, \"states_enriched\": %ld, \"lost\": %ld, "
-              "\"with_detail\": %ld, \"with_two_tools\": %ld, \"latency_ms\": {\"p50\": %.2f, \"p99\": %.2f, \"max\": %.2f}, "
-              "\"marker_arrays\": %ld, "
-              "\"resident_kb\": {\"early\": %.0f, \"late\": %.0f, \"growth\": %.4f}, \"ok\": %s}\n",
-              seconds, static_cast<long>(vertices), sent, o.received, sent - o.received, o.withDetail, o.withTwoTools,
-              percentile(o.latencyMs, 0.5), percentile(o.latencyMs, 0.99), percentile(o.latencyMs, 1.0), o.markers, early, late,
-              growth, ok ? "true" : "false");
+              "\"lost_before_the_node\": %ld, \"with_detail\": %ld, \"with_two_tools\": %ld, \"latency_ms\": {\"p50\": %.2f, \"p99\": %.2f, \"max\": %.2f}, "
+              "\"marker_arrays\": %ld, \"resident_kb\": {\"early\": %.0f, \"late\": %.0f, \"growth\": %.4f}, "
+              "\"driver\": {\"slots_missed\": %ld, \"longest_pause_ms\": %.1f}, \"node_paused_ms\": %.0f, \"ok\": %s}\n",
+              seconds, static_cast<long>(vertices), d.sent, o.received, d.sent - o.received, o.lostBeforeTheNode, o.withDetail,
+              o.withTwoTools, percentile(o.latencyMs, 0.5), percentile(o.latencyMs, 0.99), percentile(o.latencyMs, 1.0), o.markers, early, late,
+              growth, d.missed, d.longestPauseMs, d.nodePaused ? 1e3 * kNodePause : 0.0, ok ? "true" : "false");
   return ok;
 }
 
@@ -185,6 +220,11 @@ int main(int argc, char** argv) {
     o.withDetail += s->vertices_touched > 0;
     o.withTwoTools += s->tool_ids.size() == 2;
   });
+  ros::Subscriber diagnosticsSub = nh.subscribe<diagnostic_msgs::DiagnosticArray>("diagnostics", 10, [&](const auto& a) {
+    for (const auto& status : a->status)
+      for (const auto& value : status.values)
+        if (value.key.rfind("mesh states lost in the input queue", 0) == 0) o.lostBeforeTheNode = std::stol(value.value);
+  });
   ros::Subscriber markerSub = nh.subscribe<visualization_msgs::MarkerArray>("enrichment/markers", 1, [&](const auto&) { ++o.markers; });
   header.stamp = ros::Time::now();
   restPub.publish(de::ros_layer::messageFromTriangleMesh(surface, header));
@@ -196,12 +236,11 @@ int main(int argc, char** argv) {
   const int pid = findProcess(processName);
   if (pid == 0) std::fprintf(stderr, "soak: no process %s to watch the memory of\n", processName.c_str());
   o.measureFrom = ros::Time::now();
-  std::vector<long> memory;
-  const long sent = drive(seconds, stateRate, poseRate, rest, cloud, statePub, posePubA, posePubB, pid, memory);
+  const Driven driven = drive(seconds, stateRate, poseRate, rest, cloud, statePub, posePubA, posePubB, pid);
   // The last states on their way back.
-  for (ros::WallTime end = ros::WallTime::now() + ros::WallDuration(3.0); ros::ok() && o.received < sent && ros::WallTime::now() < end;) {
+  for (ros::WallTime end = ros::WallTime::now() + ros::WallDuration(3.0); ros::ok() && o.received < driven.sent && ros::WallTime::now() < end;) {
     ros::spinOnce();
     ros::WallDuration(0.01).sleep();
   }
-  return report(seconds, rest.cols(), sent, o, memory) ? 0 : 1;
+  return report(seconds, rest.cols(), driven, o) ? 0 : 1;
 }

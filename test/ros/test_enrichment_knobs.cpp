@@ -124,13 +124,15 @@ protected:
 };
 
 // What de_evaluate scores with flags is a start-up parameter of the node; /diagnostics shows the values in
-// use (the nodelet's launch file sets two of them away from config/enrichment.yaml's).
+// use (the nodelet's launch file sets three of them away from config/enrichment.yaml's).
 TEST_F(EnrichmentKnobsTest, StartUpBlendParametersAreInUse) {
   ros::NodeHandle privateNh("~");
   const std::string rimBand = privateNh.param<std::string>("expect_rim_band", "0.1");
   const std::string lambda = privateNh.param<std::string>("expect_rbf_lambda", "0.001");
+  const std::string queueSize = privateNh.param<std::string>("expect_state_queue_size", "6");
   EXPECT_EQ(diagnosticAfterChange("rim band", rimBand), rimBand);
   EXPECT_EQ(diagnosticAfterChange("rbf lambda", lambda), lambda);
+  EXPECT_EQ(diagnosticAfterChange("mesh state queue size", queueSize), queueSize);
   EXPECT_EQ(diagnosticAfterChange("magnitude aware", "true"), "true");
   EXPECT_EQ(diagnosticAfterChange("cross-validated gain", "true"), "true");
 }
@@ -298,7 +300,7 @@ TEST_F(EnrichmentKnobsTest, ReconfiguringWhileStatesStreamGivesOnlyConsistentOut
   int outputs = 0;
   for (const ros::Time& stamp : stamps) {
     const auto out = findEnriched(stamp);
-    if (!out) continue;  // the node's input queue (2) drops states under a burst
+    if (!out) continue;  // the node's bounded input queue drops states under a burst
     ++outputs;
     const Eigen::Matrix3Xf positions = positionsFromCloud(*out);
     ASSERT_TRUE(positions.allFinite());

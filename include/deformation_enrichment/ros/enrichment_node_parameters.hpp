@@ -31,6 +31,7 @@ struct EnrichmentNodeOptions {
   double markerRate = 5.0;
   double errorThrottle = 1.0;
   double masterCheckPeriod = 1.0;  ///< ~master_check_period [s]: how often the master is asked (0: never)
+  int stateQueueSize = 6;          ///< ~state_queue_size: mesh states that may wait for the enrichment
   double minRate = 1.0, maxRate = 1000.0;
 };
 

@@ -47,7 +47,8 @@ EnrichmentNode::EnrichmentNode(ros::NodeHandle nh, ros::NodeHandle privateNh)
       [this](const std::string& input, const std::string& reason, const std::string& detail) { reject(input, reason, detail); });
   // No transport hints: nodelets then receive the publisher's shared pointer (zero copy).
   restMeshSub_ = nh_.subscribe("rest_mesh", 1, &EnrichmentNode::onRestMesh, this);
-  meshStateSub_ = nh_.subscribe("mesh_state", 2, &EnrichmentNode::onMeshState, this);
+  // Deep enough to ride out a stall of the host (100 ms at 60 Hz), short enough to bound the latency.
+  meshStateSub_ = nh_.subscribe("mesh_state", parameters_.stateQueueSize, &EnrichmentNode::onMeshState, this);
   contactsSub_ = nh_.subscribe("contacts", 10, &EnrichmentNode::onContacts, this);
   tools_ = std::make_unique<ToolPoseInput>(nh_, parameters_.toolPoses, parameters_.robotDescription,
                                            [this](const std::string& input, const std::string& reason,
@@ -214,6 +215,7 @@ void EnrichmentNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& statu
   status.add("last rest build [s]", session.lastRebuildSeconds);
   status.add("last rest surface refused", session.lastRestError);
   status.add("states reused (unchanged input)", session.statesReused);
+  status.add("mesh state queue size", parameters_.stateQueueSize);
   status.add("blend requested", enrichment::toString(knobs.blend));
   status.add("blend", session.blend);
   status.add("material similarity (stamp scale)", session.materialSimilarity);
