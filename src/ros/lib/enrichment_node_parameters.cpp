@@ -146,9 +146,13 @@ EnrichmentNodeOptions readEnrichmentNodeOptions(const ros::NodeHandle& nh) {
   p.markerRate = checked(nh, "marker_rate", p.markerRate, nonNegative, ">= 0 (0: no markers)");
   p.errorThrottle = checked(nh, "error_throttle", p.errorThrottle, nonNegative, ">= 0");
   p.masterCheckPeriod = checked(nh, "master_check_period", p.masterCheckPeriod, nonNegative, ">= 0 (0: never)");
-  const int queueSize = nh.param("state_queue_size", p.stateQueueSize);
-  if (queueSize >= 1) p.stateQueueSize = queueSize;
-  else ROS_ERROR("~state_queue_size must be >= 1, got %d: using %d", queueSize, p.stateQueueSize);
+  XmlRpc::XmlRpcValue queueSize;  // read untyped: a double or a string would otherwise be ignored silently
+  if (nh.getParam("state_queue_size", queueSize)) {
+    if (queueSize.getType() == XmlRpc::XmlRpcValue::TypeInt && static_cast<int>(queueSize) >= 1)
+      p.stateQueueSize = static_cast<int>(queueSize);
+    else
+      ROS_ERROR("~state_queue_size must be a whole number >= 1, got %s: using %d", queueSize.toXml().c_str(), p.stateQueueSize);
+  }
   p.minRate = checked(nh, "expected_rate_min", p.minRate, nonNegative, ">= 0");
   p.maxRate = checked(nh, "expected_rate_max", p.maxRate, [&](double v) { return v >= p.minRate && std::isfinite(v); },
                       ">= expected_rate_min");
