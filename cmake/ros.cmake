@@ -109,7 +109,7 @@ if(CATKIN_ENABLE_TESTING)
     DEPENDS enrichment_node deformation_enrichment_nodelets)
   add_rostest(test/ros/enrichment_nodelet.test DEPENDENCIES test_enrichment_node)
   de_rostest_gtest(test_enrichment_knobs test/ros/enrichment_knobs.test
-    SOURCES test/ros/test_enrichment_knobs.cpp test/ros/test_tool_pose_sources.cpp
+    SOURCES test/ros/test_enrichment_knobs.cpp test/ros/test_tool_pose_sources.cpp test/ros/test_parameter.cpp
     test/ros/test_enrichment_markers.cpp DEPENDS enrichment_node deformation_enrichment_nodelets)
   add_rostest(test/ros/enrichment_knobs_nodelet.test DEPENDENCIES test_enrichment_knobs)
   add_rostest(test/ros/demo.test DEPENDENCIES ${DE_NODE_TARGETS})

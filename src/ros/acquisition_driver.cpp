@@ -19,8 +19,10 @@
 #include "deformation_enrichment/ros/coarse_bag.hpp"
 #include "deformation_enrichment/ros/conversions.hpp"
 #include "deformation_enrichment/seconds_since.hpp"
+#include "deformation_enrichment/ros/parameter.hpp"
 
 namespace de = deformation_enrichment;
+using de::ros_layer::requiredTypeParameter;
 using Clock = std::chrono::steady_clock;
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
@@ -216,13 +218,13 @@ private:
 // ~settle_*, ~on_timeout, ~bag, ~frame_id, ~simulator_name; throws Stop naming a bad value.
 DriverOptions readSettings(ros::NodeHandle& pnh) {
   DriverOptions s;
-  s.bag = pnh.param<std::string>("bag", "");
-  s.frame = pnh.param<std::string>("frame_id", "");
-  s.simulator = pnh.param<std::string>("simulator_name", "");
-  s.settleTolerance = pnh.param("settle_tolerance", s.settleTolerance);
-  s.settleStates = pnh.param("settle_states", s.settleStates);
-  s.settleTimeout = pnh.param("settle_timeout", s.settleTimeout);
-  const std::string onTimeout = pnh.param<std::string>("on_timeout", "skip");
+  s.bag = requiredTypeParameter<std::string>(pnh, "bag", "");
+  s.frame = requiredTypeParameter<std::string>(pnh, "frame_id", "");
+  s.simulator = requiredTypeParameter<std::string>(pnh, "simulator_name", "");
+  s.settleTolerance = requiredTypeParameter(pnh, "settle_tolerance", s.settleTolerance);
+  s.settleStates = requiredTypeParameter(pnh, "settle_states", s.settleStates);
+  s.settleTimeout = requiredTypeParameter(pnh, "settle_timeout", s.settleTimeout);
+  const std::string onTimeout = requiredTypeParameter<std::string>(pnh, "on_timeout", "skip");
   if (s.bag.empty()) throw Stop("~bag (the recording to write) is required");
   if (!(s.settleTolerance > 0.0) || !std::isfinite(s.settleTolerance))
     throw Stop("~settle_tolerance must be positive and finite, got " + std::to_string(s.settleTolerance));
@@ -241,9 +243,9 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh, pnh("~");
   try {
     const DriverOptions settings = readSettings(pnh);
-    de::scene_file::SceneDescription scene = de::scene_file::readSceneFile(de::scene_file::findSceneFile(pnh.param<std::string>("scene", "slab")));
-    const std::string planPath = pnh.param<std::string>("plan", "");
-    const int examples = pnh.param("examples", 0), heldOut = pnh.param("held_out", 0), seed = pnh.param("seed", 1);
+    de::scene_file::SceneDescription scene = de::scene_file::readSceneFile(de::scene_file::findSceneFile(requiredTypeParameter<std::string>(pnh, "scene", "slab")));
+    const std::string planPath = requiredTypeParameter<std::string>(pnh, "plan", "");
+    const int examples = requiredTypeParameter(pnh, "examples", 0), heldOut = requiredTypeParameter(pnh, "held_out", 0), seed = requiredTypeParameter(pnh, "seed", 1);
     if (examples < 0 || heldOut < 0)
       throw Stop("~examples and ~held_out must be positive (0: not used), got " + std::to_string(examples) + " and " + std::to_string(heldOut));
     if (!planPath.empty() + (examples > 0) + (heldOut > 0) > 1) throw Stop("give one of ~plan, ~examples and ~held_out");

@@ -18,8 +18,10 @@
 #include "deformation_enrichment/mesh/barycentric_embedding.hpp"
 #include "deformation_enrichment/ros/conversions.hpp"
 #include "deformation_enrichment/scenes/scene_models.hpp"
+#include "deformation_enrichment/ros/parameter.hpp"
 
 namespace de = deformation_enrichment;
+using de::ros_layer::requiredTypeParameter;
 
 namespace {
 
@@ -38,15 +40,15 @@ struct NodeOptions {
 // ~ parameters, each positive and finite; throws std::runtime_error naming a bad one.
 NodeOptions readSettings(ros::NodeHandle& pnh) {
   NodeOptions s;
-  s.scene = pnh.param<std::string>("scene", "slab");
-  s.frame = pnh.param<std::string>("frame_id", "slab");
-  s.rate = pnh.param("rate", s.rate);
-  if (int steps = 0; pnh.getParam("steps_per_state", steps)) s.stepsPerState = steps;
-  if (double step = 0.0; pnh.getParam("time_step", step)) s.timeStep = step;
-  s.tissue.density = pnh.param("density", s.tissue.density);
-  s.tissue.damping = pnh.param("damping", s.tissue.damping);
-  s.tissue.massDamping = pnh.param("mass_damping", s.tissue.massDamping);
-  s.tissue.toolSpeed = pnh.param("tool_speed", s.tissue.toolSpeed);
+  s.scene = requiredTypeParameter<std::string>(pnh, "scene", "slab");
+  s.frame = requiredTypeParameter<std::string>(pnh, "frame_id", "slab");
+  s.rate = requiredTypeParameter(pnh, "rate", s.rate);
+  if (pnh.hasParam("steps_per_state")) s.stepsPerState = requiredTypeParameter(pnh, "steps_per_state", 0);
+  if (pnh.hasParam("time_step")) s.timeStep = requiredTypeParameter(pnh, "time_step", 0.0);
+  s.tissue.density = requiredTypeParameter(pnh, "density", s.tissue.density);
+  s.tissue.damping = requiredTypeParameter(pnh, "damping", s.tissue.damping);
+  s.tissue.massDamping = requiredTypeParameter(pnh, "mass_damping", s.tissue.massDamping);
+  s.tissue.toolSpeed = requiredTypeParameter(pnh, "tool_speed", s.tissue.toolSpeed);
   for (const auto& [name, value] : {std::pair<const char*, double>{"rate", s.rate}, {"time_step", s.timeStep.value_or(1.0)},
                                     {"density", s.tissue.density}, {"damping", s.tissue.damping}, {"tool_speed", s.tissue.toolSpeed},
                                     {"steps_per_state", s.stepsPerState.value_or(1)}})

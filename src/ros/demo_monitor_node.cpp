@@ -9,8 +9,10 @@
 
 #include "deformation_enrichment/EnrichmentStatus.h"
 #include "deformation_enrichment/ros/conversions.hpp"
+#include "deformation_enrichment/ros/parameter.hpp"
 
 namespace de = deformation_enrichment;
+using de::ros_layer::parameter;
 
 namespace {
 double percentile(std::vector<double> values, double p) {
@@ -23,8 +25,8 @@ double percentile(std::vector<double> values, double p) {
 int main(int argc, char** argv) {
   ros::init(argc, argv, "demo_monitor");
   ros::NodeHandle nh, pnh("~");
-  const double duration = pnh.param("duration", 10.0);
-  const std::string summaryFile = pnh.param<std::string>("summary_file", "");
+  const double duration = parameter(pnh, "duration", 10.0);
+  const std::string summaryFile = parameter<std::string>(pnh, "summary_file", "");
 
   uint64_t inputs = 0, outputs = 0, nonFinite = 0, statuses = 0, withContact = 0, enrichedStates = 0;
   double maxConfidence = 0.0, maxTouched = 0.0;

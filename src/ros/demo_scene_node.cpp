@@ -36,8 +36,10 @@
 #include "deformation_enrichment/examples/example_set_io.hpp"
 #include "deformation_enrichment/ros/conversions.hpp"
 #include "deformation_enrichment/acquisition/tool_loading.hpp"
+#include "deformation_enrichment/ros/parameter.hpp"
 
 namespace de = deformation_enrichment;
+using de::ros_layer::requiredTypeParameter;
 
 namespace {
 
@@ -157,18 +159,18 @@ struct DemoOptions {
 
 DemoOptions readSettings(ros::NodeHandle& pnh) {
   DemoOptions s;
-  s.frame = pnh.param<std::string>("frame_id", "slab");
-  s.parentFrame = pnh.param<std::string>("parent_frame", "world");
-  s.rate = pnh.param("rate", s.rate);
-  s.period = pnh.param("tap_period", s.period);
-  s.indentSteps = pnh.param("indent_steps", s.indentSteps);
-  s.dragSteps = pnh.param("drag_steps", s.dragSteps);
-  s.setPath = pnh.param<std::string>("example_set", "");
-  s.sceneName = pnh.param<std::string>("scene", "slab");
-  s.contactsFile = pnh.param<std::string>("contacts_file", "");
-  s.seed = pnh.param("seed", s.seed);
-  s.coarse = pnh.param<std::string>("coarse", "snh");
-  s.fineTruth = pnh.param("fine_truth", s.fineTruth);
+  s.frame = requiredTypeParameter<std::string>(pnh, "frame_id", "slab");
+  s.parentFrame = requiredTypeParameter<std::string>(pnh, "parent_frame", "world");
+  s.rate = requiredTypeParameter(pnh, "rate", s.rate);
+  s.period = requiredTypeParameter(pnh, "tap_period", s.period);
+  s.indentSteps = requiredTypeParameter(pnh, "indent_steps", s.indentSteps);
+  s.dragSteps = requiredTypeParameter(pnh, "drag_steps", s.dragSteps);
+  s.setPath = requiredTypeParameter<std::string>(pnh, "example_set", "");
+  s.sceneName = requiredTypeParameter<std::string>(pnh, "scene", "slab");
+  s.contactsFile = requiredTypeParameter<std::string>(pnh, "contacts_file", "");
+  s.seed = requiredTypeParameter(pnh, "seed", s.seed);
+  s.coarse = requiredTypeParameter<std::string>(pnh, "coarse", "snh");
+  s.fineTruth = requiredTypeParameter(pnh, "fine_truth", s.fineTruth);
   if (!(s.rate > 0.0) || !std::isfinite(s.rate) || !(s.period > 0.0) || !std::isfinite(s.period))
     throw std::runtime_error("~rate (" + std::to_string(s.rate) + ") and ~tap_period (" + std::to_string(s.period) +
                              ") must be positive and finite");

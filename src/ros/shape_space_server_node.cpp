@@ -4,6 +4,7 @@
 #include <ros/ros.h>
 
 #include <chrono>
+#include <cmath>
 #include <string>
 
 #include "deformation_enrichment/BezierCurve.h"
@@ -17,8 +18,10 @@
 #include "deformation_enrichment/shape_space/discrete_shells.hpp"
 #include "deformation_enrichment/shape_space/geodesic.hpp"
 #include "deformation_enrichment/shape_space/smoothing_flow.hpp"
+#include "deformation_enrichment/ros/parameter.hpp"
 
 namespace de = deformation_enrichment;
+using de::ros_layer::parameter;
 namespace ss = de::shape_space;
 
 namespace {
@@ -26,11 +29,11 @@ namespace {
 class ShapeSpaceServer {
 public:
   explicit ShapeSpaceServer(ros::NodeHandle privateNh) {
-    const std::string membrane = privateNh.param<std::string>("membrane", "hyperelastic");
+    const std::string membrane = parameter<std::string>(privateNh, "membrane", "hyperelastic");
     classic_ = membrane == "discrete_shells";
     if (!classic_ && membrane != "hyperelastic") ROS_ERROR("unknown ~membrane '%s', using 'hyperelastic'", membrane.c_str());
-    bendingWeight_ = privateNh.param("bending_weight", 0.0);
-    maxShapes_ = privateNh.param("max_shapes", 2000);
+    bendingWeight_ = parameter(privateNh, "bending_weight", 0.0, [](double v) { return v >= 0.0 && std::isfinite(v); }, ">= 0");
+    maxShapes_ = parameter(privateNh, "max_shapes", 2000, [](int v) { return v >= 1; }, ">= 1");
     smooth_ = privateNh.advertiseService("smooth_sequence", &ShapeSpaceServer::smooth, this);
     geodesic_ = privateNh.advertiseService("compute_geodesic", &ShapeSpaceServer::geodesic, this);
     bezier_ = privateNh.advertiseService("bezier_curve", &ShapeSpaceServer::bezier, this);

@@ -124,12 +124,15 @@ protected:
 };
 
 // What de_evaluate scores with flags is a start-up parameter of the node; /diagnostics shows the values in
-// use (the nodelet's launch file sets three of them away from config/enrichment.yaml's).
+// use (the nodelet's launch file sets three of them away from config/enrichment.yaml's) and the values refused
+// (the node's launch file gives two of the wrong type, which roscpp's param() would ignore silently).
 TEST_F(EnrichmentKnobsTest, StartUpBlendParametersAreInUse) {
   ros::NodeHandle privateNh("~");
   const std::string rimBand = privateNh.param<std::string>("expect_rim_band", "0.1");
   const std::string lambda = privateNh.param<std::string>("expect_rbf_lambda", "0.001");
   const std::string queueSize = privateNh.param<std::string>("expect_state_queue_size", "6");
+  const std::string refused = privateNh.param<std::string>("expect_refused_parameters", "none");
+  EXPECT_EQ(diagnosticAfterChange("parameters refused at start-up (defaults used)", refused), refused);
   EXPECT_EQ(diagnosticAfterChange("rim band", rimBand), rimBand);
   EXPECT_EQ(diagnosticAfterChange("rbf lambda", lambda), lambda);
   EXPECT_EQ(diagnosticAfterChange("mesh state queue size", queueSize), queueSize);

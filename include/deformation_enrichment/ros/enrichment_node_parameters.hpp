@@ -33,6 +33,7 @@ struct EnrichmentNodeOptions {
   double masterCheckPeriod = 1.0;  ///< ~master_check_period [s]: how often the master is asked (0: never)
   int stateQueueSize = 6;          ///< ~state_queue_size: mesh states that may wait for the enrichment
   double minRate = 1.0, maxRate = 1000.0;
+  std::vector<std::string> refusedParameters;  ///< each "name (value given)": logged, the default used instead
 };
 
 /// The marker options from ~marker_max_triangles, ~marker_color (displacement | strain; anything else is reported
@@ -40,7 +41,8 @@ struct EnrichmentNodeOptions {
 /// ([x, y, z]; anything else is reported and leaves the coarse surface off).
 MarkerOptions readMarkerOptions(const ros::NodeHandle& privateNh);
 
-/// Reads the private parameters; bad values are logged (ROS_ERROR) and replaced by their defaults.
+/// Reads the private parameters; values of the wrong type or out of range are logged (ROS_ERROR), listed in
+/// refusedParameters and replaced by their defaults.
 EnrichmentNodeOptions readEnrichmentNodeOptions(const ros::NodeHandle& privateNh);
 
 }  // namespace deformation_enrichment::ros_layer

@@ -216,6 +216,9 @@ void EnrichmentNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& statu
   status.add("last rest surface refused", session.lastRestError);
   status.add("states reused (unchanged input)", session.statesReused);
   status.add("mesh state queue size", parameters_.stateQueueSize);
+  std::string refused;
+  for (const std::string& r : parameters_.refusedParameters) refused += (refused.empty() ? "" : ", ") + r;
+  status.add("parameters refused at start-up (defaults used)", refused.empty() ? "none" : refused);
   status.add("blend requested", enrichment::toString(knobs.blend));
   status.add("blend", session.blend);
   status.add("material similarity (stamp scale)", session.materialSimilarity);

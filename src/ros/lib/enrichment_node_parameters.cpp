@@ -4,81 +4,75 @@
 
 #include <algorithm>
 #include <cmath>
-#include <tuple>
 #include <vector>
 
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/ros/parameter.hpp"
 
 namespace deformation_enrichment::ros_layer {
 namespace {
 
-// ~name as a double that `valid` accepts, else `fallback` (logged).
-template <typename Valid>
-double checked(const ros::NodeHandle& nh, const char* name, double fallback, Valid valid, const char* expected) {
-  const double value = nh.param(name, fallback);
-  if (valid(value)) return value;
-  ROS_ERROR("~%s must be %s, got %g: using %g", name, expected, value, fallback);
-  return fallback;
-}
-
 bool positive(double v) { return v > 0.0 && std::isfinite(v); }
 bool nonNegative(double v) { return v >= 0.0 && std::isfinite(v); }
 
-void readSession(const ros::NodeHandle& nh, EnrichmentNodeOptions& p) {
+// A check that `parse` accepts the text (it throws Error otherwise).
+template <typename Parse>
+auto parses(Parse parse) {
+  return [parse](const std::string& text) {
+    try {
+      parse(text);
+      return true;
+    } catch (const Error&) {
+      return false;
+    }
+  };
+}
+
+void readSession(ParameterReader& read, EnrichmentNodeOptions& p) {
   enrichment::ContactEnricherOptions& defaults = p.session.defaults;
-  p.segmentationScale = checked(nh, "descriptor_scale", p.segmentationScale, positive, "positive");
+  p.segmentationScale = read("descriptor_scale", p.segmentationScale, positive, "positive");
   defaults.descriptors.window.scale = p.segmentationScale;
-  defaults.sampleSpacing = checked(nh, "segmentation_sample_spacing", 0.0, nonNegative, ">= 0 (0: h / 4)");
+  defaults.sampleSpacing = read("segmentation_sample_spacing", 0.0, nonNegative, ">= 0 (0: h / 4)");
   enrichment::ContactContinuityOptions continuity;
-  continuity.followRelease = nh.param("follow_release", true);
-  continuity.releaseFloor = nh.param("release_floor", continuity.releaseFloor);
-  continuity.matchRadius = nh.param("site_match_radius", continuity.matchRadius);
+  continuity.followRelease = read("follow_release", true);
+  continuity.releaseFloor = read("release_floor", continuity.releaseFloor);
+  continuity.matchRadius = read("site_match_radius", continuity.matchRadius);
   try {
     enrichment::ContactContinuity check(continuity);
     p.session.continuity = continuity;
   } catch (const Error& e) {
-    ROS_ERROR("~release_floor or ~site_match_radius rejected: %s (keeping %g and %g)", e.what(),
-              p.session.continuity.releaseFloor, p.session.continuity.matchRadius);
+    read.refuse("release_floor and site_match_radius", e.what(), std::to_string(continuity.releaseFloor) + " and " +
+                std::to_string(continuity.matchRadius), std::to_string(p.session.continuity.releaseFloor) + " and " +
+                std::to_string(p.session.continuity.matchRadius));
     p.session.continuity.followRelease = continuity.followRelease;
   }
   descriptors::SiteDensityOptions& density = p.session.density;
-  const std::string source = nh.param<std::string>("site_density", "auto");
-  try {
-    density.source = descriptors::parseSiteDensitySource(source);
-  } catch (const Error& e) {
-    ROS_ERROR("~site_density: %s; using auto", e.what());
-  }
-  density.shellThickness = checked(nh, "shell_thickness", 0.0, nonNegative, ">= 0 (0: three window scales)");
+  density.source = descriptors::parseSiteDensitySource(
+      read("site_density", std::string("auto"), parses(descriptors::parseSiteDensitySource), "auto, surface, volume or shell"));
+  density.shellThickness = read("shell_thickness", 0.0, nonNegative, ">= 0 (0: three window scales)");
   // What de_evaluate's --rim-band, --correlation-only, --lambda and --no-cv-gain score, for the node.
-  defaults.rimBand = checked(nh, "rim_band", defaults.rimBand, [](double v) { return v >= 0.0 && v < 1.0; }, "in [0, 1)");
-  defaults.magnitudeAware = nh.param("magnitude_aware", defaults.magnitudeAware);
-  p.session.blending.lambda = checked(nh, "rbf_lambda", p.session.blending.lambda, positive, "positive");
-  p.session.blending.crossValidatedGain = nh.param("cross_validated_gain", p.session.blending.crossValidatedGain);
-  if (nh.hasParam("max_outside")) p.maxOutside = checked(nh, "max_outside", density.maxOutside, nonNegative, ">= 0");
+  defaults.rimBand = read("rim_band", defaults.rimBand, [](double v) { return v >= 0.0 && v < 1.0; }, "in [0, 1)");
+  defaults.magnitudeAware = read("magnitude_aware", defaults.magnitudeAware);
+  p.session.blending.lambda = read("rbf_lambda", p.session.blending.lambda, positive, "positive");
+  p.session.blending.crossValidatedGain = read("cross_validated_gain", p.session.blending.crossValidatedGain);
+  if (read.nodeHandle().hasParam("max_outside")) p.maxOutside = read("max_outside", density.maxOutside, nonNegative, ">= 0");
 }
 
-void readKnobs(const ros::NodeHandle& nh, enrichment::KnobOptions& k) {
+void readKnobs(ParameterReader& read, enrichment::KnobOptions& k) {
   // Start-up values; the reconfigure server reads the same parameters (its ranges apply later).
-  const std::string blend = nh.param<std::string>("blend", enrichment::toString(k.blend));
-  try {
-    k.blend = enrichment::parseBlendMethod(blend);
-  } catch (const Error& e) {
-    ROS_ERROR("~blend: %s; using %s", e.what(), enrichment::toString(k.blend));
-  }
-  k.gain.stampGain = checked(nh, "stamp_gain", k.gain.stampGain, nonNegative, ">= 0");
-  k.sigmaRho = checked(nh, "sigma_rho", k.sigmaRho, [](double v) { return std::isfinite(v); }, "finite");
-  k.sigmaU = checked(nh, "sigma_u", k.sigmaU, [](double v) { return std::isfinite(v); }, "finite");
-  k.hermiteOrder = nh.param("hermite_order", k.hermiteOrder);
-  if (k.hermiteOrder < 0) {
-    ROS_ERROR("~hermite_order must be >= 0 (0: the set's), got %d: using 0", k.hermiteOrder);
-    k.hermiteOrder = 0;
-  }
-  k.gain.minConfidence = checked(nh, "min_confidence", k.gain.minConfidence, [](double v) { return v >= 0.0 && v <= 1.0; }, "in [0, 1]");
-  k.temporalSmoothing = checked(nh, "temporal_smoothing", k.temporalSmoothing, nonNegative, ">= 0");
+  k.blend = enrichment::parseBlendMethod(
+      read("blend", std::string(enrichment::toString(k.blend)), parses(enrichment::parseBlendMethod), "regression or paper"));
+  k.gain.stampGain = read("stamp_gain", k.gain.stampGain, nonNegative, ">= 0");
+  k.sigmaRho = read("sigma_rho", k.sigmaRho, [](double v) { return std::isfinite(v); }, "finite");
+  k.sigmaU = read("sigma_u", k.sigmaU, [](double v) { return std::isfinite(v); }, "finite");
+  k.hermiteOrder = read("hermite_order", k.hermiteOrder, [](int v) { return v >= 0; }, ">= 0 (0: the set's)");
+  k.gain.minConfidence = read("min_confidence", k.gain.minConfidence, [](double v) { return v >= 0.0 && v <= 1.0; }, "in [0, 1]");
+  k.temporalSmoothing = read("temporal_smoothing", k.temporalSmoothing, nonNegative, ">= 0");
 }
 
 // ~tool_poses, else the default pair of topics; ~robot_description when a tip link needs it.
-void readToolPoses(const ros::NodeHandle& nh, EnrichmentNodeOptions& p) {
+void readToolPoses(ParameterReader& read, EnrichmentNodeOptions& p) {
+  const ros::NodeHandle& nh = read.nodeHandle();
   p.toolPoses = defaultToolPoseSpecs(p.toolPoseId, p.toolTipLink);
   XmlRpc::XmlRpcValue list;
   if (nh.getParam("tool_poses", list)) {
@@ -86,7 +80,7 @@ void readToolPoses(const ros::NodeHandle& nh, EnrichmentNodeOptions& p) {
       std::vector<ToolPoseSpec> listed = toolPoseSpecs(list);
       if (!listed.empty()) p.toolPoses = std::move(listed);
     } catch (const Error& e) {
-      ROS_ERROR("%s: subscribing tool_pose and tool_transform instead", e.what());
+      read.refuse("tool_poses", "a list of {topic, id, tip_link}", e.what(), "tool_pose and tool_transform");
     }
   }
   const bool needsUrdf = std::any_of(p.toolPoses.begin(), p.toolPoses.end(), [](const ToolPoseSpec& s) { return !s.tipLink.empty(); });
@@ -95,67 +89,63 @@ void readToolPoses(const ros::NodeHandle& nh, EnrichmentNodeOptions& p) {
 }
 
 // Where a surface is drawn beside the enriched one: [x, y, z] in metres; zero (not drawn) when absent or bad.
-Eigen::Vector3d markerOffset(const ros::NodeHandle& privateNh, const std::string& name, const char* surface) {
+Eigen::Vector3d markerOffset(ParameterReader& read, const std::string& name) {
+  const ros::NodeHandle& privateNh = read.nodeHandle();
   if (!privateNh.hasParam(name)) return Eigen::Vector3d::Zero();
   std::vector<double> offset;
   if (privateNh.getParam(name, offset) && offset.size() == 3 &&
       std::all_of(offset.begin(), offset.end(), [](double v) { return std::isfinite(v); }))
     return Eigen::Vector3d(offset[0], offset[1], offset[2]);
   // rosrun's _name:=[x, y, z] arrives as a string: roscpp parses only numbers and booleans there.
-  ROS_ERROR("~%s must be a list [x, y, z] in metres (finite; from rosrun: rosparam set first); not drawing %s", name.c_str(),
-            surface);
+  XmlRpc::XmlRpcValue given;
+  privateNh.getParam(name, given);
+  read.refuse(name, "a list [x, y, z] in metres (finite; from rosrun: rosparam set first)", describeParameter(given), "not drawn");
   return Eigen::Vector3d::Zero();
 }
 
 }  // namespace
 
-MarkerOptions readMarkerOptions(const ros::NodeHandle& privateNh) {
+MarkerOptions readMarkerOptions(ParameterReader& read) {
   MarkerOptions options;
-  options.maxTriangles = privateNh.param("marker_max_triangles", options.maxTriangles);
-  options.displacementScale = privateNh.param("marker_displacement_scale", options.displacementScale);
-  options.strainScale = privateNh.param("marker_strain_scale", options.strainScale);
-  for (auto [name, scale, fallback] : {std::tuple{"marker_displacement_scale", &options.displacementScale, MarkerOptions().displacementScale},
-                                       std::tuple{"marker_strain_scale", &options.strainScale, MarkerOptions().strainScale}})
-    if (!(*scale > 0.0 && std::isfinite(*scale))) {
-      ROS_ERROR("~%s must be positive and finite, got %g: using %g", name, *scale, fallback);
-      *scale = fallback;
-    }
-  const std::string color = privateNh.param<std::string>("marker_color", "displacement");
+  options.maxTriangles = read("marker_max_triangles", options.maxTriangles, [](int v) { return v >= 1; }, ">= 1");
+  options.displacementScale = read("marker_displacement_scale", options.displacementScale, positive, "positive");
+  options.strainScale = read("marker_strain_scale", options.strainScale, positive, "positive");
+  const std::string color = read("marker_color", std::string("displacement"),
+                                 [](const std::string& c) { return c == "displacement" || c == "strain"; }, "displacement or strain");
   if (color == "strain") options.color = MarkerOptions::Color::Strain;
-  else if (color != "displacement")
-    ROS_ERROR("~marker_color '%s' is neither 'displacement' nor 'strain': showing the displacement", color.c_str());
-  options.coarseOffset = markerOffset(privateNh, "marker_coarse_offset", "the coarse surface");
-  options.fineOffset = markerOffset(privateNh, "marker_fine_offset", "the fine truth");
-  options.fineStampTolerance = checked(privateNh, "marker_fine_tolerance", options.fineStampTolerance, nonNegative, ">= 0");
+  options.coarseOffset = markerOffset(read, "marker_coarse_offset");
+  options.fineOffset = markerOffset(read, "marker_fine_offset");
+  options.fineStampTolerance = read("marker_fine_tolerance", options.fineStampTolerance, nonNegative, ">= 0");
   return options;
+}
+
+MarkerOptions readMarkerOptions(const ros::NodeHandle& privateNh) {
+  ParameterReader read(privateNh);
+  return readMarkerOptions(read);
 }
 
 EnrichmentNodeOptions readEnrichmentNodeOptions(const ros::NodeHandle& nh) {
   EnrichmentNodeOptions p;
-  p.scene = nh.param<std::string>("scene", "");
-  p.restMeshFile = nh.param<std::string>("rest_mesh_file", "");
-  p.exampleSet = nh.param<std::string>("example_set", "");
-  readKnobs(nh, p.knobs);
-  readSession(nh, p);
-  p.contactTimeout = checked(nh, "contact_timeout", p.contactTimeout, positive, "positive");
-  p.toolContactDistance = checked(nh, "tool_contact_distance", p.toolContactDistance, nonNegative, ">= 0");
-  p.toolPoseId = nh.param<std::string>("tool_pose_id", p.toolPoseId);
-  p.toolTipLink = nh.param<std::string>("tool_tip_link", "");
-  readToolPoses(nh, p);
-  p.markers = readMarkerOptions(nh);
-  p.markerRate = checked(nh, "marker_rate", p.markerRate, nonNegative, ">= 0 (0: no markers)");
-  p.errorThrottle = checked(nh, "error_throttle", p.errorThrottle, nonNegative, ">= 0");
-  p.masterCheckPeriod = checked(nh, "master_check_period", p.masterCheckPeriod, nonNegative, ">= 0 (0: never)");
-  XmlRpc::XmlRpcValue queueSize;  // read untyped: a double or a string would otherwise be ignored silently
-  if (nh.getParam("state_queue_size", queueSize)) {
-    if (queueSize.getType() == XmlRpc::XmlRpcValue::TypeInt && static_cast<int>(queueSize) >= 1)
-      p.stateQueueSize = static_cast<int>(queueSize);
-    else
-      ROS_ERROR("~state_queue_size must be a whole number >= 1, got %s: using %d", queueSize.toXml().c_str(), p.stateQueueSize);
-  }
-  p.minRate = checked(nh, "expected_rate_min", p.minRate, nonNegative, ">= 0");
-  p.maxRate = checked(nh, "expected_rate_max", p.maxRate, [&](double v) { return v >= p.minRate && std::isfinite(v); },
+  ParameterReader read(nh);
+  p.scene = read("scene", std::string());
+  p.restMeshFile = read("rest_mesh_file", std::string());
+  p.exampleSet = read("example_set", std::string());
+  readKnobs(read, p.knobs);
+  readSession(read, p);
+  p.contactTimeout = read("contact_timeout", p.contactTimeout, positive, "positive");
+  p.toolContactDistance = read("tool_contact_distance", p.toolContactDistance, nonNegative, ">= 0");
+  p.toolPoseId = read("tool_pose_id", p.toolPoseId);
+  p.toolTipLink = read("tool_tip_link", std::string());
+  readToolPoses(read, p);
+  p.markers = readMarkerOptions(read);
+  p.markerRate = read("marker_rate", p.markerRate, nonNegative, ">= 0 (0: no markers)");
+  p.errorThrottle = read("error_throttle", p.errorThrottle, nonNegative, ">= 0");
+  p.masterCheckPeriod = read("master_check_period", p.masterCheckPeriod, nonNegative, ">= 0 (0: never)");
+  p.stateQueueSize = read("state_queue_size", p.stateQueueSize, [](int v) { return v >= 1; }, ">= 1");
+  p.minRate = read("expected_rate_min", p.minRate, nonNegative, ">= 0");
+  p.maxRate = read("expected_rate_max", p.maxRate, [&](double v) { return v >= p.minRate && std::isfinite(v); },
                       ">= expected_rate_min");
+  p.refusedParameters = read.refused();
   return p;
 }
 
