@@ -1,51 +1,21 @@
 #include "deformation_enrichment/elasticity/calculix_run.hpp"
 
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
-#include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <vector>
 
 #include "deformation_enrichment/elasticity/calculix_dat.hpp"
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/external_program.hpp"
 #include "deformation_enrichment/seconds_since.hpp"
-
-extern char** environ;
 
 namespace deformation_enrichment::elasticity {
 namespace {
 
 constexpr const char* kJob = "job";  // ccx -i job reads job.inp and writes job.dat, job.sta, ...
-
-/// A fresh folder under the system's temporary directory, removed with this object.
-class TemporaryFolder {
-public:
-  TemporaryFolder() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "de_calculix_XXXXXX").string();
-    if (!::mkdtemp(pattern.data())) throw IoError("cannot create a temporary folder for ccx in " + pattern);
-    path_ = pattern;
-  }
-  ~TemporaryFolder() {
-    std::error_code ignored;  // a leftover temporary folder is no reason to fail
-    std::filesystem::remove_all(path_, ignored);
-  }
-  TemporaryFolder(const TemporaryFolder&) = delete;
-  TemporaryFolder& operator=(const TemporaryFolder&) = delete;
-  const std::filesystem::path& path() const { return path_; }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
-private:
-  std::filesystem::path path_;
-};
 
 /// The caller's environment with the thread counts replaced.
 std::vector<std::string> childEnvironment(int threads) {
@@ -60,49 +30,10 @@ std::vector<std::string> childEnvironment(int threads) {
   return variables;
 }
 
-std::vector<char*> pointers(std::vector<std::string>& strings) {
-  std::vector<char*> result;
-  for (std::string& s : strings) result.push_back(s.data());
-  result.push_back(nullptr);
-  return result;
-}
-
-/// Runs `program -i job` inside `folder` (ccx writes its scratch files, spooles.out among them, into the
-/// working directory) with stdout and stderr in `log`; returns the wait status.
-int runInFolder(const CalculixOptions& options, const TemporaryFolder& folder, const std::string& log) {
-  std::vector<std::string> arguments{options.program, "-i", kJob};
-  std::vector<std::string> environment = childEnvironment(options.threads);
-  std::vector<char*> argv = pointers(arguments), envp = pointers(environment);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addchdir_np(&actions, folder.path().c_str());
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  pid_t pid = 0;
-  const int failed = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), envp.data());
-  posix_spawn_file_actions_destroy(&actions);
-  if (failed != 0)
-    throw IoError("cannot run '" + options.program + "' (" + std::strerror(failed) +
-                  "); Debian's calculix-ccx package provides it (scripts/install-deps)");
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) throw IoError("lost the '" + options.program + "' process: " + std::strerror(errno));
-  return status;
-}
-
-std::string describeStatus(int status) {
-  if (WIFEXITED(status)) return "exit code " + std::to_string(WEXITSTATUS(status));
-  if (WIFSIGNALED(status)) return "signal " + std::to_string(WTERMSIG(status));
-  return "status " + std::to_string(status);
-}
-
 /// ccx's *ERROR messages (each with the lines after it) or, without any, its last lines: what to show a
 /// user once the folder is gone.
 std::string logExcerpt(const std::string& log) {
-  std::ifstream in(log);
-  std::vector<std::string> lines;
-  for (std::string line; std::getline(in, line);)
-    if (line.find_first_not_of(' ') != std::string::npos) lines.push_back(line.substr(line.find_first_not_of(' ')));
+  const std::vector<std::string> lines = nonBlankLines(log);
   std::string errors;
   for (std::size_t k = 0; k < lines.size(); ++k) {
     if (lines[k].find("*ERROR") == std::string::npos) continue;
@@ -126,7 +57,7 @@ bool hasError(const std::string& log) {
 CalculixRun runCalculix(const CalculixModel& model, const CalculixOptions& options) {
   validate(model);
   if (options.threads < 1) throw InvalidInputError("runCalculix: threads must be at least 1");
-  TemporaryFolder folder;
+  TemporaryFolder folder("calculix");
   const std::string deck = folder.file(std::string(kJob) + ".inp"), log = folder.file("ccx.log");
   const std::string dat = folder.file(std::string(kJob) + ".dat");
   {
@@ -135,11 +66,12 @@ CalculixRun runCalculix(const CalculixModel& model, const CalculixOptions& optio
     writeCalculixDeck(out, model);
   }
   const auto start = std::chrono::steady_clock::now();
-  const int status = runInFolder(options, folder, log);
+  // ccx writes its scratch files (spooles.out among them) into the working directory: the folder.
+  const int status = runProgram({{options.program, "-i", kJob}, log, "calculix-ccx", folder.path().string(), childEnvironment(options.threads)});
   CalculixRun run;
   run.seconds = secondsSince(start);
   // ccx exits 0 after some rejected decks (an unreadable input, for one), so its *ERROR lines count too.
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+  if (!succeeded(status))
     throw IoError(options.program + " failed on " + deck + " (" + describeStatus(status) + "): " + logExcerpt(log));
   if (hasError(log)) throw IoError(options.program + " rejected " + deck + ": " + logExcerpt(log));
   std::ifstream in(dat);

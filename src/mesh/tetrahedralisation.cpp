@@ -1,93 +1,25 @@
 #include "deformation_enrichment/mesh/tetrahedralisation.hpp"
 
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
 #include <chrono>
 #include <cstdlib>
-#include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
 #include <vector>
 
 #include "deformation_enrichment/error.hpp"
+#include "deformation_enrichment/external_program.hpp"
 #include "deformation_enrichment/mesh/barycentric_embedding.hpp"
 #include "deformation_enrichment/mesh/surface_report.hpp"
 #include "deformation_enrichment/mesh/tet_surface.hpp"
 #include "deformation_enrichment/mesh/tetgen_io.hpp"
 #include "deformation_enrichment/seconds_since.hpp"
 
-extern char** environ;
-
 namespace deformation_enrichment::mesh {
 namespace {
 
 constexpr int kCoarseAttempts = 6;  // simplification targets up to 1.25^5 = 3x the requested one
-
-/// A fresh folder under the system's temporary directory, removed with this object.
-class TemporaryFolder {
-public:
-  TemporaryFolder() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "de_tetgen_XXXXXX").string();
-    if (!::mkdtemp(pattern.data())) throw IoError("cannot create a temporary folder for tetgen in " + pattern);
-    path_ = pattern;
-  }
-  ~TemporaryFolder() {
-    std::error_code ignored;  // a leftover temporary folder is no reason to fail
-    std::filesystem::remove_all(path_, ignored);
-  }
-  TemporaryFolder(const TemporaryFolder&) = delete;
-  TemporaryFolder& operator=(const TemporaryFolder&) = delete;
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
-private:
-  std::filesystem::path path_;
-};
-
-/// Runs `arguments` (the program first, looked up on PATH) with stdout and stderr going to `log`, and
-/// returns its wait status. Throws IoError if it cannot be started.
-int runProgram(const std::vector<std::string>& arguments, const std::string& log) {
-  std::vector<char*> argv;
-  for (const std::string& argument : arguments) argv.push_back(const_cast<char*>(argument.c_str()));
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  pid_t pid = 0;
-  const int failed = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (failed != 0)
-    throw IoError("cannot run '" + arguments[0] + "' (" + std::strerror(failed) +
-                  "); Debian's tetgen package provides it (scripts/install-deps)");
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) throw IoError("lost the '" + arguments[0] + "' process: " + std::strerror(errno));
-  }
-  return status;
-}
-
-bool succeeded(int status) { return WIFEXITED(status) && WEXITSTATUS(status) == 0; }
-
-std::string describeStatus(int status) {
-  if (WIFEXITED(status)) return "exit code " + std::to_string(WEXITSTATUS(status));
-  if (WIFSIGNALED(status)) return "signal " + std::to_string(WTERMSIG(status));
-  return "status " + std::to_string(status);
-}
-
-std::vector<std::string> nonBlankLines(const std::string& path) {
-  std::ifstream in(path);
-  std::vector<std::string> lines;
-  for (std::string line; std::getline(in, line);)
-    if (line.find_first_not_of(' ') != std::string::npos) lines.push_back(line.substr(line.find_first_not_of(' ')));
-  return lines;
-}
 
 /// The intersecting facets tetgen's -d run lists (it numbers facets from 1 in input order), or "".
 std::string intersectionReport(const std::string& detectionLog) {
@@ -167,17 +99,17 @@ struct TetgenRun {
 TetgenRun runTetgen(const TriangleMesh& surface, const TetrahedraliseOptions& options) {
   if (!(options.radiusEdgeRatio >= 0.0) || !(options.maxVolume >= 0.0))
     throw InvalidInputError("tetrahedralise: radiusEdgeRatio and maxVolume must be non-negative");
-  TemporaryFolder folder;
+  TemporaryFolder folder("tetgen");
   const std::string input = folder.file("surface.smesh"), log = folder.file("tetgen.log");
   writeSmesh(input, surface);
   TetgenRun run;
   run.result.command = switches(options);
-  const int status = runProgram({options.program, run.result.command, input}, log);
+  const int status = runProgram({{options.program, run.result.command, input}, log, "tetgen"});
   if (!succeeded(status)) {
     // Debian's tetgen aborts without a word on a self-intersecting surface; its -d run lists the
     // intersecting facets.
     const std::string detection = folder.file("tetgen-d.log");
-    runProgram({options.program, "-pdz", input}, detection);
+    runProgram({{options.program, "-pdz", input}, detection, "tetgen"});
     const std::string findings = intersectionReport(detection);
     run.selfIntersecting = !findings.empty();
     run.failure = "tetgen " + run.result.command + " failed (" + describeStatus(status) +
