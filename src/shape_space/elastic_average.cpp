@@ -112,11 +112,7 @@ AverageResult elasticAverage(const DeformationEnergy& energy, const std::vector<
   newton.relativeDecrementTolerance = options.relativeTolerance;
   newton.gradientSquaredTolerance = options.absoluteGradientTolerance * options.absoluteGradientTolerance;
   const numerics::NewtonReport report = numerics::dampedNewton(objective, result.shape, newton);
-  result.objective = report.value;
-  result.iterations = report.iterations;
-  result.evaluations = report.evaluations;
-  result.status = report.status;
-  result.gradientNorm = std::sqrt(report.gradientSquaredNorm);
+  result.record(report);
   return result;
 }
 

@@ -83,11 +83,7 @@ AverageResult reducedElasticAverage(const DeformationEnergy& energy, const std::
   const numerics::NewtonReport report = numerics::dampedNewton(objective, q, newton, &space.warmStart, &result.reducedModel);
   result.shape = space.lift(q);
   result.reducedCoordinates = std::move(q);
-  result.objective = report.value;
-  result.iterations = report.iterations;
-  result.evaluations = report.evaluations;
-  result.status = report.status;
-  result.gradientNorm = std::sqrt(report.gradientSquaredNorm);
+  result.record(report);
   return result;
 }
 

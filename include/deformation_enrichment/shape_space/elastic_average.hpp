@@ -4,6 +4,7 @@
 // a sparse Cholesky factorisation (CHOLMOD when available); the damping is isotropic, so the iteration
 // commutes with rigid motions and never moves along the energy's rigid null space (the gradient of a
 // rigid-invariant energy is orthogonal to it): results follow rigid motions of the inputs exactly.
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -36,6 +37,14 @@ struct AverageResult {
   /// Reduced solver only: its quasi-Newton model of the Hessian at the end (a warm start for a similar average).
   Eigen::MatrixXd reducedModel;
   bool converged() const { return status != numerics::MinimiserStatus::NotConverged; }
+  /// The solver's outcome: everything but the shape and the reduced solver's fields.
+  void record(const numerics::NewtonReport& report) {
+    objective = report.value;
+    iterations = report.iterations;
+    evaluations = report.evaluations;
+    status = report.status;
+    gradientNorm = std::sqrt(report.gradientSquaredNorm);
+  }
 };
 
 /// The objective of eq. 10 / eq. 1 prepared once for the solvers: eq. 10 through the energy's aggregated
