@@ -27,6 +27,12 @@ void checkOptions(const ContactEnricherOptions& o) {
   o.gain.check();
 }
 
+// min(1, bound / sum_i |w_i|); 1 without a bound. Continuous in the weights, so a stream stays continuous.
+double weightNormBound(const Eigen::VectorXd& weights, double bound) {
+  const double norm = weights.lpNorm<1>();
+  return bound > 0.0 && norm > bound ? bound / norm : 1.0;
+}
+
 }  // namespace
 
 ContactEnricher::ContactEnricher(mesh::TriangleMesh restSurface, const ContactEnricherOptions& options,
@@ -62,6 +68,14 @@ void ContactEnricher::setExamples(const examples::ExampleSet& set, const Example
 void DetailGain::check() const {
   if (!(stampGain >= 0.0) || !std::isfinite(stampGain)) throw InvalidInputError("stamp gain must be >= 0 and finite");
   if (!(minConfidence >= 0.0 && minConfidence <= 1.0)) throw InvalidInputError("minimum confidence must be in [0, 1]");
+  if (!(maxWeightNorm >= 0.0) || !std::isfinite(maxWeightNorm))
+    throw InvalidInputError("maximum weight norm must be >= 0 and finite (0: no bound)");
+}
+
+DetailGain DetailGain::withStampGainTimes(double factor) const {
+  DetailGain scaled = *this;
+  scaled.stampGain *= factor;
+  return scaled;
 }
 
 void ContactEnricher::setDetailGain(const DetailGain& gain) {
@@ -97,11 +111,13 @@ void ContactEnricher::blendContact(const Contact& contact, ContactOutcome& outco
   outcome.confidence = blendScratch_.rbf.confidence;
   outcome.muNorm = outcome.description.mu.values().norm();
   Eigen::VectorXd effective;
+  double weightNormScale = 1.0;
   const bool followsMagnitude = options_.magnitudeAware || blender_->method() == BlendMethod::Regression;
   if (blender_->method() == BlendMethod::Regression) {
     // The regression is linear in mu: beyond maxMagnitudeRatio times the largest example it stops growing.
     const double reach = options_.maxMagnitudeRatio * blender_->largestMuNorm();
     effective = outcome.weights * (outcome.muNorm > reach ? reach / outcome.muNorm : 1.0);
+    weightNormScale = weightNormBound(outcome.weights, options_.gain.maxWeightNorm);
   } else {
     // Psi = sum_i w~_i (|mu| / |mu[i]|) Psi[i] when magnitude-aware (examples without deformation, |mu[i]| = 0,
     // contribute nothing), with w~_i and the ratio clamped (options).
@@ -110,7 +126,7 @@ void ContactEnricher::blendContact(const Contact& contact, ContactOutcome& outco
       for (Eigen::Index i = 0; i < effective.size(); ++i)
         effective(i) = muNorms_(i) > 0.0 ? effective(i) * std::min(outcome.muNorm / muNorms_(i), options_.maxMagnitudeRatio) : 0.0;
   }
-  outcome.detailScale = smoothRamp(outcome.confidence, options_.gain.minConfidence);
+  outcome.detailScale = smoothRamp(outcome.confidence, options_.gain.minConfidence) * weightNormScale;
   if (contact.releasedMagnitude > 0.0 && !followsMagnitude)
     outcome.detailScale *= std::min(1.0, outcome.muNorm / contact.releasedMagnitude);
   if (effective != outcome.weights) blendScratch_.stamp = blendStamps(stamps_, effective);

@@ -41,7 +41,7 @@ std::unique_ptr<EnrichmentSession::Built> EnrichmentSession::build(const RestSur
   // The descriptors see geometry only: detail acquired on another material fades with its difference.
   if (options_.scene && set.metadata.provenance)
     result->materialSimilarity = materialSimilarity(set.metadata.provenance->scene, *options_.scene);
-  options.gain = {knobs.gain.stampGain * result->materialSimilarity, knobs.gain.minConfidence};
+  options.gain = knobs.gain.withStampGainTimes(result->materialSimilarity);
   const mesh::TetMesh* volume = rest.geometry.volume ? &*rest.geometry.volume : nullptr;
   result->enricher = std::make_unique<ContactEnricher>(
       surfaceEnricher(rest.geometry.surface, volume, options, options_.density, &result->siteDensity));
@@ -115,7 +115,7 @@ void EnrichmentSession::setKnobs(const KnobOptions& requested) {
   if (enricher_ && enricher_->enricher) {  // the values were checked above, so none of these throws
     ContactEnricher& enricher = *enricher_->enricher;
     // The set's material similarity scales the gain as when the enricher was built.
-    enricher.setDetailGain({requested.gain.stampGain * enricher_->materialSimilarity, requested.gain.minConfidence});
+    enricher.setDetailGain(requested.gain.withStampGainTimes(enricher_->materialSimilarity));
     enricher.setKernelWidths(requested.sigmaRho, requested.sigmaU);  // O(N^3) in the examples: cheap
   }
   if (requested.temporalSmoothing != temporalFilter_.timeConstant()) temporalFilter_.setTimeConstant(requested.temporalSmoothing);

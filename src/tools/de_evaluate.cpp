@@ -37,7 +37,7 @@ struct EvaluateOptions {
   std::vector<std::string> alsoSets;
   bool noFit = false, correlationOnly = false, curves = false, noGain = false, open = false;
   const enrichment::ContactEnricherOptions defaults;
-  double minConfidence = 0.0, gain = 1.0, rimBand = defaults.rimBand, sigmaRho = 0.0, sigmaU = 0.0, shellThickness = 0.0;
+  double minConfidence = 0.0, maxWeightNorm = defaults.gain.maxWeightNorm, gain = 1.0, rimBand = defaults.rimBand, sigmaRho = 0.0, sigmaU = 0.0, shellThickness = 0.0;
   double lambda = enrichment::RbfInterpolator::kDefaultRegularisation;
   int repetitions = 5, heldOut = 8;
   unsigned seed = 1;
@@ -66,6 +66,8 @@ void addOptions(CLI::App& app, EvaluateOptions& s) {
   app.add_option("--gain", s.gain, "stamp gain");
   app.add_option("--min-confidence", s.minConfidence, "detail fades from full at twice this blend confidence to none at it "
                  "(the node's ~min_confidence; 0: no gate)")->check(CLI::Range(0.0, 1.0));
+  app.add_option("--max-weight-norm", s.maxWeightNorm, "blend regression: detail scaled by min(1, this / sum |w_i|) (the node's "
+                 "~max_weight_norm; 0: no bound)")->check(CLI::NonNegativeNumber)->capture_default_str();
   app.add_option("--rim-band", s.rimBand, "StampMapper rim band in [0, 1)");
   app.add_flag("--correlation-only", s.correlationOnly, "the paper's pure correlation (no |mu| / |mu[i]| stamp scaling)");
   app.add_option("--sigma-rho", s.sigmaRho, "fixed kernel width sigma_rho (with --sigma-u: no leave-one-out fit)");
@@ -191,6 +193,7 @@ void prepare(Evaluation& ev) {
   ev.options = s.defaults;
   ev.options.gain.stampGain = s.gain;
   ev.options.gain.minConfidence = s.minConfidence;
+  ev.options.gain.maxWeightNorm = s.maxWeightNorm;
   ev.options.rimBand = s.rimBand;
   ev.options.magnitudeAware = !s.correlationOnly;
   ev.options = enrichment::optionsFor(ev.set, ev.options);

@@ -16,15 +16,22 @@
 
 namespace deformation_enrichment::enrichment {
 
-/// How much of the blended detail is applied: the run-time knobs stamp_gain and min_confidence.
+/// How much of the blended detail is applied: the run-time knobs stamp_gain, min_confidence and max_weight_norm.
 struct DetailGain {
   double stampGain = 1.0;  ///< scales every blended stamp; >= 0
   /// Detail fades in with the blend's confidence (paper: max eq. 15 weight; regression: the variance the
   /// examples explain): 0 below minConfidence, full from 2 minConfidence on, smoothstep between (a ramp,
   /// not a step). 0 = never gated; in [0, 1].
   double minConfidence = 0.0;
+  /// Blend regression: the detail is scaled by min(1, maxWeightNorm / sum_i |w_i|). Weights that must be
+  /// large and cancel to fit a contact are an extrapolation (transfer to another shape, a contact unlike
+  /// every example); in-scene contacts stay below it (docs/accuracy.md). 0 = no bound; >= 0. The paper's
+  /// blend has its own bound on each weight (ContactEnricherOptions::maxWeight) and ignores this one.
+  double maxWeightNorm = 6.0;
   /// Throws InvalidInputError naming the value out of range.
   void check() const;
+  /// The same knobs with the stamp gain multiplied by `factor` (a set's material similarity).
+  DetailGain withStampGainTimes(double factor) const;
 };
 
 struct ContactEnricherOptions {
@@ -55,7 +62,7 @@ struct ContactOutcome {
   Eigen::VectorXd weights;  ///< w~ per example (eq. 16)
   double confidence = 0.0;  ///< the blend's confidence (paper: max eq. (15) weight; regression: explained variance)
   double muNorm = 0.0;      ///< |mu|: how strongly the tissue is deformed at the contact
-  double detailScale = 1.0; ///< confidence ramp times the fade of a released site (times the stamp gain)
+  double detailScale = 1.0; ///< confidence ramp, weight-norm bound and fade of a released site (times the stamp gain)
 };
 
 struct EnrichmentTimings {

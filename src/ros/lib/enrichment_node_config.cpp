@@ -68,6 +68,7 @@ void EnrichmentNode::onReconfigure(EnrichmentConfig& config, uint32_t /*level*/)
   requested.sigmaU = config.sigma_u;
   requested.hermiteOrder = config.hermite_order;
   requested.gain.minConfidence = config.min_confidence;
+  requested.gain.maxWeightNorm = config.max_weight_norm;
   requested.temporalSmoothing = config.temporal_smoothing;
   try {
     requested.blend = enrichment::parseBlendMethod(config.blend);
@@ -80,8 +81,8 @@ void EnrichmentNode::onReconfigure(EnrichmentConfig& config, uint32_t /*level*/)
   } catch (const Error& e) {
     if (requested.hermiteOrder == kept.hermiteOrder) {
       ROS_ERROR("reconfiguration refused: %s (keeping stamp_gain %g, sigma_rho %g, sigma_u %g, min_confidence %g, "
-                "temporal_smoothing %g)", e.what(), kept.gain.stampGain, kept.sigmaRho, kept.sigmaU, kept.gain.minConfidence,
-                kept.temporalSmoothing);
+                "max_weight_norm %g, temporal_smoothing %g)", e.what(), kept.gain.stampGain, kept.sigmaRho, kept.sigmaU,
+                kept.gain.minConfidence, kept.gain.maxWeightNorm, kept.temporalSmoothing);
       requested = kept;
     } else {  // the order alone is refused (above the active set's): the other knobs still apply
       ROS_ERROR("hermite_order %d refused: %s (keeping hermite_order %d)", requested.hermiteOrder, e.what(), kept.hermiteOrder);
@@ -99,6 +100,7 @@ void EnrichmentNode::onReconfigure(EnrichmentConfig& config, uint32_t /*level*/)
   config.sigma_u = requested.sigmaU;
   config.hermite_order = requested.hermiteOrder;
   config.min_confidence = requested.gain.minConfidence;
+  config.max_weight_norm = requested.gain.maxWeightNorm;
   config.temporal_smoothing = requested.temporalSmoothing;
   config.blend = enrichment::toString(requested.blend);
 }

@@ -67,6 +67,7 @@ void readKnobs(ParameterReader& read, enrichment::KnobOptions& k) {
   k.sigmaU = read("sigma_u", k.sigmaU, [](double v) { return std::isfinite(v); }, "finite");
   k.hermiteOrder = read("hermite_order", k.hermiteOrder, [](int v) { return v >= 0; }, ">= 0 (0: the set's)");
   k.gain.minConfidence = read("min_confidence", k.gain.minConfidence, [](double v) { return v >= 0.0 && v <= 1.0; }, "in [0, 1]");
+  k.gain.maxWeightNorm = read("max_weight_norm", k.gain.maxWeightNorm, nonNegative, ">= 0 (0: no bound)");
   k.temporalSmoothing = read("temporal_smoothing", k.temporalSmoothing, nonNegative, ">= 0");
 }
 

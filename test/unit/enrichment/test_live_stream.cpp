@@ -180,6 +180,38 @@ TEST(LiveStream, ConfidenceGateIsARamp) {
   EXPECT_THROW(enricher.setDetailGain({1.0, -0.1}), InvalidInputError);
 }
 
+TEST(LiveStream, WeightNormBoundScalesTheRegressionDetail) {
+  // detail x min(1, bound / sum_i |w_i|) for blend regression; the paper's blend ignores the bound.
+  const Eigen::Vector3d p(0.0, 0.001, 0.02), q(0.004, 0.001, 0.02);
+  Contact c;
+  c.point = p + Eigen::Vector3d(0.001, 0, 0);
+  for (auto method : {enrichment::BlendMethod::Regression, enrichment::BlendMethod::Paper}) {
+    ContactEnricher enricher(slabSurface(), options());
+    auto set = pressExample(enricher, p);
+    set.examples.push_back(pressExample(enricher, q).examples[0]);
+    auto blending = fixedWidths();
+    blending.method = method;
+    enricher.setExamples(set, blending);
+    const Eigen::Matrix3Xd state = pressed(enricher.restSurface().vertices, c.point, 0.003);
+    enrichment::EnrichmentResult full, bounded;
+    enricher.setDetailGain({1.0, 0.0, 0.0});
+    enricher.enrich(state, {c}, full);
+    const double norm = full.contacts[0].weights.lpNorm<1>();
+    ASSERT_GT(norm, 0.1);
+    ASSERT_GT(full.enrichment.displacements.norm(), 0.0);
+    for (double bound : {0.5 * norm, 0.9 * norm, 2.0 * norm}) {
+      enricher.setDetailGain({1.0, 0.0, bound});
+      enricher.enrich(state, {c}, bounded);
+      const double expected = method == enrichment::BlendMethod::Regression ? std::min(1.0, bound / norm) : 1.0;
+      EXPECT_NEAR(bounded.contacts[0].detailScale, expected, 1e-12) << toString(method) << " bound " << bound;
+      EXPECT_LT((bounded.enrichment.displacements - expected * full.enrichment.displacements).norm(),
+                1e-6 * full.enrichment.displacements.norm());
+    }
+    EXPECT_THROW(enricher.setDetailGain({1.0, 0.0, -1.0}), InvalidInputError);
+    EXPECT_THROW(enricher.setDetailGain({1.0, 0.0, std::numeric_limits<double>::quiet_NaN()}), InvalidInputError);
+  }
+}
+
 TEST(LiveStream, SmoothRampIsContinuousFromZeroToOne) {
   EXPECT_EQ(smoothRamp(0.5, 1.0), 0.0);
   EXPECT_EQ(smoothRamp(1.0, 1.0), 0.0);
