@@ -254,6 +254,7 @@ json report(const Evaluation& ev, const std::vector<acquisition::PlanEntry>& con
           {"held_out", s.contacts.empty() ? json{{"random", s.heldOut}, {"seed", s.seed}} : json{{"file", s.contacts}}},
           {"stamp_radius", ev.options.stampRadius}, {"open_surface", s.open}, {"site_density", ev.densityDescription},
           {"magnitude_aware", !s.correlationOnly}, {"rim_band", s.rimBand}, {"gain", s.gain}, {"lambda", s.lambda},
+          {"min_confidence", s.minConfidence}, {"max_weight_norm", s.maxWeightNorm},
           {"surface_vertices", ev.acquisition->fineSurface().vertices.cols()},
           {"blend", enrichment::toString(blender.method())}, {"sigma_rho", blender.widths().sigmaRho},
           {"sigma_u", blender.widths().sigmaU}, {"leave_one_out", looFit},

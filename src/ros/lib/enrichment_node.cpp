@@ -223,6 +223,8 @@ void EnrichmentNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& statu
   status.add("blend", session.blend);
   status.add("material similarity (stamp scale)", session.materialSimilarity);
   status.add("stamp gain", knobs.gain.stampGain);
+  status.add("min confidence", knobs.gain.minConfidence);
+  status.add("max weight norm (0 = no bound)", knobs.gain.maxWeightNorm);
   status.add("rim band", parameters_.session.defaults.rimBand);
   status.add("magnitude aware", parameters_.session.defaults.magnitudeAware ? "true" : "false");
   status.add("rbf lambda", parameters_.session.blending.lambda);
