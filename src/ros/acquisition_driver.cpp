@@ -236,11 +236,28 @@ DriverOptions readSettings(ros::NodeHandle& pnh) {
   return s;
 }
 
+// rosrun's _name:=value stays on the master after the run. ~plan, ~examples and ~held_out choose what one
+// run records, so they are removed when it ends: the next run on the same master (the held-out interactions
+// after the examples, say) must not inherit the previous one's choice.
+class RunChoiceParameters {
+public:
+  explicit RunChoiceParameters(const ros::NodeHandle& pnh) : pnh_(pnh) {}
+  RunChoiceParameters(const RunChoiceParameters&) = delete;
+  RunChoiceParameters& operator=(const RunChoiceParameters&) = delete;
+  ~RunChoiceParameters() {
+    for (const char* name : {"plan", "examples", "held_out"}) pnh_.deleteParam(name);
+  }
+
+private:
+  ros::NodeHandle pnh_;
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "acquisition_driver");
   ros::NodeHandle nh, pnh("~");
+  const RunChoiceParameters runChoice(pnh);
   try {
     const DriverOptions settings = readSettings(pnh);
     de::scene_file::SceneDescription scene = de::scene_file::readSceneFile(de::scene_file::findSceneFile(requiredTypeParameter<std::string>(pnh, "scene", "slab")));
@@ -248,7 +265,9 @@ int main(int argc, char** argv) {
     const int examples = requiredTypeParameter(pnh, "examples", 0), heldOut = requiredTypeParameter(pnh, "held_out", 0), seed = requiredTypeParameter(pnh, "seed", 1);
     if (examples < 0 || heldOut < 0)
       throw Stop("~examples and ~held_out must be positive (0: not used), got " + std::to_string(examples) + " and " + std::to_string(heldOut));
-    if (!planPath.empty() + (examples > 0) + (heldOut > 0) > 1) throw Stop("give one of ~plan, ~examples and ~held_out");
+    if (!planPath.empty() + (examples > 0) + (heldOut > 0) > 1)
+      throw Stop("give one of ~plan, ~examples and ~held_out, got plan '" + planPath + "', examples " + std::to_string(examples) +
+                 ", held_out " + std::to_string(heldOut));
     if (!planPath.empty()) scene.plan = planPath;
     else if (examples > 0) scene.plan = "auto";  // the nested plan, as de_make_examples --examples
     ROS_INFO("acquisition driver: scene %s: building its models...", scene.name.c_str());

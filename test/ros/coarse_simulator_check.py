@@ -45,8 +45,10 @@ class ExamplesFromAnotherSimulator(unittest.TestCase):
         try:
             train, test = os.path.join(work, "train.bag"), os.path.join(work, "held_out.bag")
             driver = ["rosrun", PACKAGE, "acquisition_driver", "_scene:=slab"]
-            log = run(driver + [f"_examples:={examples}", f"_bag:={train}", "__name:=driver_train"]).stdout
-            run(driver + [f"_held_out:={held_out}", f"_seed:={seed}", f"_bag:={test}", "__name:=driver_held_out"])
+            log = run(driver + [f"_examples:={examples}", f"_bag:={train}"]).stdout
+            # One node name for both runs, as a user types them: the first run's ~examples must not stay.
+            self.assertFalse(rospy.has_param("/acquisition_driver/examples"))
+            run(driver + [f"_held_out:={held_out}", f"_seed:={seed}", f"_bag:={test}"])
             print(log[-1500:])
             bullet_set = os.path.join(work, "bullet_set")
             run([tool("de_make_examples"), "--scene", "slab", "--coarse-bag", train, "--output", bullet_set])
