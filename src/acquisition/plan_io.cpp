@@ -5,6 +5,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "deformation_enrichment/atomic_file.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/number_parsing.hpp"
 
@@ -62,10 +63,9 @@ void writePlan(std::ostream& out, const std::vector<PlanEntry>& plan) {
 }
 
 void writePlan(const std::string& path, const std::vector<PlanEntry>& plan) {
-  std::ofstream out(path);
-  if (!out) throw IoError(path + ": cannot write plan");
-  writePlan(out, plan);
-  if (!out) throw IoError(path + ": failed while writing");
+  std::ostringstream text;
+  writePlan(text, plan);
+  writeFileAtomically(path, text.str());
 }
 
 }  // namespace deformation_enrichment::acquisition

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <vector>
 
+#include "deformation_enrichment/atomic_file.hpp"
 #include "deformation_enrichment/error.hpp"
 
 namespace deformation_enrichment::examples {
@@ -37,20 +38,6 @@ std::string hex64(std::uint64_t v) {
 json momentsToJson(const hermite::MomentList& m) {
   return json{{"first_order", m.firstOrder()}, {"last_order", m.lastOrder()}, {"channels", m.channels()},
               {"values", std::vector<double>(m.values().data(), m.values().data() + m.values().size())}};
-}
-
-void writeFileAtomically(const fs::path& path, const char* data, std::size_t size) {
-  const fs::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw IoError(path.string() + ": cannot open for writing");
-    out.write(data, static_cast<std::streamsize>(size));
-    out.flush();
-    if (!out) throw IoError(path.string() + ": write failed");
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) throw IoError(path.string() + ": cannot rename temporary file: " + ec.message());
 }
 
 // Manifest reading: every accessor names the field path so the error says exactly what is wrong.
@@ -211,9 +198,9 @@ void saveExampleSet(const ExampleSet& set, const std::string& directory) {
   fs::create_directories(dir, ec);
   if (ec) throw IoError(directory + ": cannot create directory: " + ec.message());
   // Blob first, manifest last: a manifest under its final name always describes a complete blob.
-  writeFileAtomically(dir / kStampBlobFile, blob.data(), blob.size());
+  writeFileAtomically(dir / kStampBlobFile, std::string_view(blob.data(), blob.size()));
   const std::string text = manifest.dump(1);
-  writeFileAtomically(dir / kManifestFile, text.data(), text.size());
+  writeFileAtomically(dir / kManifestFile, text);
 }
 
 namespace {

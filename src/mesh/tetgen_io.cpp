@@ -9,6 +9,7 @@
 #include <sstream>
 #include <vector>
 
+#include "deformation_enrichment/atomic_file.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/number_parsing.hpp"
 
@@ -197,16 +198,10 @@ void writeTetGen(const std::string& base, const TetMesh& mesh, const Eigen::Vect
   if (region.size() != 0 && region.size() != mesh.numTets())
     throw InvalidInputError("writeTetGen: region has " + std::to_string(region.size()) + " entries for " +
                             std::to_string(mesh.numTets()) + " tets");
-  {
-    std::ofstream node(base + ".node");
-    if (!node) throw IoError("cannot write TetGen file " + base + ".node");
-    node << std::setprecision(17) << mesh.numVertices() << " 3 0 0\n";
-    for (Eigen::Index v = 0; v < mesh.numVertices(); ++v)
-      node << v << ' ' << mesh.vertices(0, v) << ' ' << mesh.vertices(1, v) << ' ' << mesh.vertices(2, v) << '\n';
-    if (!node) throw IoError("failed while writing " + base + ".node");
-  }
-  std::ofstream ele(base + ".ele");
-  if (!ele) throw IoError("cannot write TetGen file " + base + ".ele");
+  std::ostringstream node, ele;
+  node << std::setprecision(17) << mesh.numVertices() << " 3 0 0\n";
+  for (Eigen::Index v = 0; v < mesh.numVertices(); ++v)
+    node << v << ' ' << mesh.vertices(0, v) << ' ' << mesh.vertices(1, v) << ' ' << mesh.vertices(2, v) << '\n';
   ele << mesh.numTets() << " 4 " << (region.size() ? 1 : 0) << '\n';
   for (Eigen::Index t = 0; t < mesh.numTets(); ++t) {
     ele << t;
@@ -214,7 +209,8 @@ void writeTetGen(const std::string& base, const TetMesh& mesh, const Eigen::Vect
     if (region.size()) ele << ' ' << region[t];
     ele << '\n';
   }
-  if (!ele) throw IoError("failed while writing " + base + ".ele");
+  writeFileAtomically(base + ".node", node.str());
+  writeFileAtomically(base + ".ele", ele.str());
 }
 
 }  // namespace deformation_enrichment::mesh

@@ -4,10 +4,12 @@
 #include <sensor_msgs/PointCloud2.h>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <vector>
 
 #include "deformation_enrichment/EnrichmentStatus.h"
+#include "deformation_enrichment/atomic_file.hpp"
 #include "deformation_enrichment/ros/conversions.hpp"
 #include "deformation_enrichment/ros/parameter.hpp"
 
@@ -25,7 +27,7 @@ double percentile(std::vector<double> values, double p) {
 int main(int argc, char** argv) {
   ros::init(argc, argv, "demo_monitor");
   ros::NodeHandle nh, pnh("~");
-  const double duration = parameter(pnh, "duration", 10.0);
+  const double duration = parameter(pnh, "duration", 10.0, [](double v) { return v > 0.0 && std::isfinite(v); }, "> 0 seconds");
   const std::string summaryFile = parameter<std::string>(pnh, "summary_file", "");
 
   uint64_t inputs = 0, outputs = 0, nonFinite = 0, statuses = 0, withContact = 0, enrichedStates = 0;
@@ -62,7 +64,14 @@ int main(int argc, char** argv) {
                 percentile(latencyMs, 90), percentile(latencyMs, 99), percentile(latencyMs, 100));
   std::printf("demo summary: %s\n", summary);
   std::fflush(stdout);
-  if (!summaryFile.empty()) std::ofstream(summaryFile) << summary << "\n";
+  if (!summaryFile.empty()) {
+    try {
+      de::writeFileAtomically(summaryFile, std::string(summary) + "\n");
+    } catch (const de::Error& e) {
+      ROS_ERROR("demo monitor: %s", e.what());
+      return 1;
+    }
+  }
   const bool ok = outputs > 0 && nonFinite == 0;
   ros::shutdown();
   return ok ? 0 : 1;

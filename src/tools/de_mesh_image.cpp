@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "deformation_enrichment/atomic_file.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/barycentric_embedding.hpp"
 #include "deformation_enrichment/mesh/image_surface.hpp"
@@ -85,7 +86,7 @@ int main(int argc, char** argv) {
                         {"tets", model.mesh.numTets()}, {"tetgen", model.command},
                         {"display_vertices_first", model.surfaceVertices}};
     }
-    std::ofstream(output + "/mesh_image.json") << report.dump(2) << '\n';
+    writeFileAtomically(output + "/mesh_image.json", report.dump(2) + '\n');
     return 0;
   } catch (const Error& error) {
     std::cerr << "de_mesh_image: " << error.what() << '\n';

@@ -12,6 +12,7 @@
 #include <regex>
 #include <sstream>
 
+#include "deformation_enrichment/atomic_file.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/scene_file/scene_description.hpp"
 #include "deformation_enrichment/scenes/scene_models.hpp"
@@ -44,13 +45,7 @@ int main(int argc, char** argv) {
     far << "Distance: " << distance;
     std::string rviz = std::regex_replace(text.str(), std::regex("Focal Point: \\{[^}]*\\}"), focal.str());
     rviz = std::regex_replace(rviz, std::regex("Distance: [-0-9.eE+]+"), far.str());
-    const std::string partial = outputPath + ".part";  // never a half-written config
-    {
-      std::ofstream out(partial);
-      out << rviz;
-      if (!out) throw IoError("cannot write " + partial);
-    }
-    std::filesystem::rename(partial, outputPath);
+    writeFileAtomically(outputPath, rviz);
     for (const Eigen::Vector3d& o : {coarseOffset, fineOffset}) std::printf("[%g, %g, %g]\n", o.x(), o.y(), o.z());
   } catch (const std::exception& e) {
     std::cerr << "de_scene_view: " << e.what() << "\n";

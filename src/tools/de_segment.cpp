@@ -12,6 +12,7 @@
 #include "deformation_enrichment/descriptors/evaluator_loading.hpp"
 #include "descriptor_cli.hpp"
 #include "deformation_enrichment/descriptors/site_segmentation.hpp"
+#include "deformation_enrichment/atomic_file.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "command_line.hpp"
 
@@ -57,10 +58,7 @@ int main(int argc, char** argv) {
     if (outputPath.empty()) {
       std::cout << output.dump() << '\n';
     } else {
-      std::ofstream out(outputPath);
-      if (!out) throw IoError("cannot write " + outputPath);
-      out << output.dump() << '\n';
-      if (!out) throw IoError("failed while writing " + outputPath);
+      writeFileAtomically(outputPath, output.dump() + '\n');
     }
     return 0;
   } catch (const std::exception& error) {

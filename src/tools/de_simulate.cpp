@@ -11,10 +11,12 @@
 #include <iomanip>
 #include <iostream>
 #include <optional>
+#include <sstream>
 #include <nlohmann/json.hpp>
 
 #include "deformation_enrichment/elasticity/calculix_comparison.hpp"
 #include "deformation_enrichment/elasticity/quasi_static_solver.hpp"
+#include "deformation_enrichment/atomic_file.hpp"
 #include "deformation_enrichment/error.hpp"
 #include "deformation_enrichment/mesh/tet_surface.hpp"
 #include "deformation_enrichment/mesh/tetgen_io.hpp"
@@ -28,15 +30,14 @@ using nlohmann::json;
 namespace {
 
 void writeObj(const std::string& path, const mesh::TetSurface& surface, const Eigen::Matrix3Xd& positions) {
-  std::ofstream out(path);
-  if (!out) throw IoError("cannot write " + path);
+  std::ostringstream out;
   out << std::setprecision(9);
   for (int v : surface.surfaceToVolume)
     out << "v " << positions(0, v) << ' ' << positions(1, v) << ' ' << positions(2, v) << '\n';
   for (Eigen::Index f = 0; f < surface.surface.numTriangles(); ++f)
     out << "f " << surface.surface.triangles(0, f) + 1 << ' ' << surface.surface.triangles(1, f) + 1 << ' '
         << surface.surface.triangles(2, f) + 1 << '\n';
-  if (!out) throw IoError("failed while writing " + path);
+  writeFileAtomically(path, out.str());
 }
 
 /// TetGen mesh as a scene: region ids become material ids (clamped to bulk/skin), vertices at the lowest
@@ -233,7 +234,7 @@ int simulateMotion(const Options& o, const scenes::Scene& scene, const std::vect
                             {"final_force_norm", result.finalForceNorm}, {"force_tolerance", result.forceTolerance},
                             {"energy", result.energy}, {"seconds", result.seconds}, {"surface", std::string(name + 1)},
                             {"newton", newtonLog(result)}});
-    std::ofstream(o.outDir + "/log.json") << log.dump(1) << '\n';  // rewritten each step: usable while running
+    writeFileAtomically(o.outDir + "/log.json", log.dump(1) + '\n');  // rewritten each step: usable while running
   }
   if (allConverged) return 0;
   std::cerr << "warning: at least one step did not converge (see log.json)\n";
