@@ -22,7 +22,7 @@ using enrichment_test::waitFor;
 class EnrichmentKnobsTest : public enrichment_test::EnrichmentNodeTest {
 protected:
   void TearDown() override {  // one node serves every test: leave the knobs at their defaults
-    reconfigure({{"stamp_gain", 1.0}, {"sigma_rho", 0.0}, {"sigma_u", 0.0}, {"max_weight_norm", 6.0}}, {{"hermite_order", 0}},
+    reconfigure({{"stamp_gain", 1.0}, {"sigma_rho", 0.0}, {"sigma_u", 0.0}, {"max_weight_norm", 4.0}}, {{"hermite_order", 0}},
                 {{"blend", "regression"}});
   }
 
@@ -164,7 +164,7 @@ TEST_F(EnrichmentKnobsTest, StampGainScalesTheAddedDisplacementFromTheNextState)
   ASSERT_EQ(none.cols(), full.cols());
   EXPECT_EQ(none.cwiseAbs().maxCoeff(), 0.0f) << "gain 0 adds nothing";
 
-  EXPECT_EQ(diagnosticValue("max weight norm (0 = no bound)"), "6");
+  EXPECT_EQ(diagnosticValue("max weight norm (0 = no bound)"), "4");
   reconfigure({{"max_weight_norm", 2.5}});
   EXPECT_EQ(diagnosticAfterChange("max weight norm (0 = no bound)", "2.5"), "2.5");
   EXPECT_EQ(diagnosticValue("min confidence"), "0");

@@ -25,9 +25,9 @@ struct DetailGain {
   double minConfidence = 0.0;
   /// Blend regression: the detail is scaled by min(1, maxWeightNorm / sum_i |w_i|). Weights that must be
   /// large and cancel to fit a contact are an extrapolation (transfer to another shape, a contact unlike
-  /// every example); in-scene contacts stay below it (docs/accuracy.md). 0 = no bound; >= 0. The paper's
+  /// every example); most in-scene contacts stay below 4 (docs/accuracy.md). 0 = no bound; >= 0. The paper's
   /// blend has its own bound on each weight (ContactEnricherOptions::maxWeight) and ignores this one.
-  double maxWeightNorm = 6.0;
+  double maxWeightNorm = 4.0;
   /// Throws InvalidInputError naming the value out of range.
   void check() const;
   /// The same knobs with the stamp gain multiplied by `factor` (a set's material similarity).
