@@ -138,6 +138,8 @@ TEST_F(EnrichmentKnobsTest, StartUpBlendParametersAreInUse) {
   EXPECT_EQ(diagnosticAfterChange("mesh state queue size", queueSize), queueSize);
   EXPECT_EQ(diagnosticAfterChange("magnitude aware", "true"), "true");
   EXPECT_EQ(diagnosticAfterChange("cross-validated gain", "true"), "true");
+  // The first test: no reconfiguration has run yet, so this is the start-up value (the node's: refused -2).
+  EXPECT_EQ(diagnosticAfterChange("max weight norm (0 = no bound)", "4"), "4");
 }
 
 TEST_F(EnrichmentKnobsTest, StampGainScalesTheAddedDisplacementFromTheNextState) {

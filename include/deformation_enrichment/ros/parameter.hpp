@@ -49,7 +49,7 @@ public:
   const ros::NodeHandle& nodeHandle() const { return nh_; }
 
   /// ~name as a T that `valid` accepts; the fallback when it is not set, or when it is of another type or
-  /// `valid` refuses it (then logged, `expected` naming the range, e.g. ">= 0").
+  /// `valid` refuses it (then logged, `expected` naming the range, e.g. ">= 0", and ~name set to the fallback).
   template <typename T, typename Valid>
   T operator()(const std::string& name, T fallback, Valid valid, const std::string& expected) {
     XmlRpc::XmlRpcValue value;
@@ -60,6 +60,9 @@ public:
     text << std::boolalpha << fallback;
     refuse(name, expected.empty() ? parameterKind<T>() : std::string(parameterKind<T>()) + ", " + expected,
            describeParameter(value), text.str());
+    // The server then holds the value in use: a reconfigure server starts from it (it would clamp the
+    // refused value into its range and apply that instead of the fallback).
+    nh_.setParam(name, fallback);
     return fallback;
   }
 
