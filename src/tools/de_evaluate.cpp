@@ -37,7 +37,8 @@ struct EvaluateOptions {
   std::vector<std::string> alsoSets;
   bool noFit = false, correlationOnly = false, curves = false, noGain = false, open = false;
   const enrichment::ContactEnricherOptions defaults;
-  double minConfidence = 0.0, maxWeightNorm = defaults.gain.maxWeightNorm, gain = 1.0, rimBand = defaults.rimBand, sigmaRho = 0.0, sigmaU = 0.0, shellThickness = 0.0;
+  double minConfidence = 0.0, maxWeightNorm = defaults.gain.maxWeightNorm, gain = 1.0, rimBand = defaults.rimBand;
+  double sigmaRho = 0.0, sigmaU = 0.0, shellThickness = 0.0;
   double lambda = enrichment::RbfInterpolator::kDefaultRegularisation;
   int repetitions = 5, heldOut = 8;
   unsigned seed = 1;

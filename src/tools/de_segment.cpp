@@ -4,7 +4,6 @@
 //   de_segment --mesh M.node|M.obj|M.ply --scale h --clusters k [--order N] [--quadrature volume|average]
 //              [--cutoff c] [--sample-spacing s] [--output labels.json]
 #include <CLI/CLI.hpp>
-#include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <string>
