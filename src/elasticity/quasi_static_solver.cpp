@@ -1,6 +1,7 @@
 #include "deformation_enrichment/elasticity/quasi_static_solver.hpp"
 
 #include <algorithm>
+#include <Eigen/IterativeLinearSolvers>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -14,6 +15,24 @@ namespace deformation_enrichment::elasticity {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// The last Cholesky factorisation as the preconditioner of Eigen's conjugate gradients (the interface its
+// IterativeSolverBase expects); the matrix it is given is not factorised.
+class FactorPreconditioner {
+public:
+  void use(const numerics::SparseCholesky& factor) { factor_ = &factor; }
+  template <typename Matrix>
+  FactorPreconditioner& analyzePattern(const Matrix&) { return *this; }
+  template <typename Matrix>
+  FactorPreconditioner& factorize(const Matrix&) { return *this; }
+  template <typename Matrix>
+  FactorPreconditioner& compute(const Matrix&) { return *this; }
+  Eigen::VectorXd solve(const Eigen::VectorXd& r) const { return factor_->solve(r); }
+  Eigen::ComputationInfo info() const { return factor_ ? Eigen::Success : Eigen::InvalidInput; }
+
+private:
+  const numerics::SparseCholesky* factor_ = nullptr;
+};
 
 }  // namespace
 
@@ -45,8 +64,11 @@ struct QuasiStaticSolver::Linear {
   Eigen::SparseMatrix<double> Hexact;  ///< exact Hessian, same pattern (used near the solution)
   std::vector<Eigen::Index> diagonal;  ///< value index of H(i, i)
   numerics::SparseCholesky cholesky;
+  bool factorized = false;  ///< cholesky holds a factorisation of this pattern
 
+  // A solve starts from a fresh factorisation, so its iterates do not depend on what the solver solved before.
   void prepare(const TetFem& fem, const Eigen::VectorXi& map) {
+    factorized = false;
     if (map.size() == dofMap.size() && map == dofMap) return;
     dofMap = map;
     H = fem.reducedPattern(dofMap, true);
@@ -59,7 +81,10 @@ struct QuasiStaticSolver::Linear {
   }
 
   /// Factorises M + shift I (M has the pattern of H); true if positive definite.
-  bool factorize(const Eigen::SparseMatrix<double>& M, double shift) { return cholesky.factorize(M, shift); }
+  bool factorize(const Eigen::SparseMatrix<double>& M, double shift) {
+    factorized = cholesky.factorize(M, shift);
+    return factorized;
+  }
   Eigen::VectorXd solve(const Eigen::VectorXd& rhs) const { return cholesky.solve(rhs); }
 };
 
@@ -67,9 +92,12 @@ QuasiStaticSolver::QuasiStaticSolver(const TetFem& fem, SolverOptions settings)
     : fem_(fem), settings_(std::move(settings)), linear_(std::make_unique<Linear>(settings_.linearSolver)) {
   if (settings_.maxIterations < 0 || !(settings_.relativeForceTolerance >= 0.0) || settings_.maxLineSearchSteps < 1 ||
       !(settings_.armijo > 0.0 && settings_.armijo < 1.0) || !(settings_.maxSeconds > 0.0) ||
-      !(settings_.exactHessianBelow >= 0.0) || !(settings_.reuseContraction >= 0.0 && settings_.reuseContraction < 1.0))
+      !(settings_.exactHessianBelow >= 0.0) || !(settings_.reuseContraction >= 0.0 && settings_.reuseContraction < 1.0) ||
+      !(settings_.preconditionedTolerance >= 0.0 && settings_.preconditionedTolerance < 1.0) ||
+      settings_.preconditionedIterations < 0)
     throw InvalidInputError("QuasiStaticSolver: invalid settings (limits must be positive, 0 < armijo < 1, "
-                            "exactHessianBelow >= 0, 0 <= reuseContraction < 1)");
+                            "exactHessianBelow >= 0, 0 <= reuseContraction < 1, 0 <= preconditionedTolerance < 1, "
+                            "preconditionedIterations >= 0)");
 }
 
 QuasiStaticSolver::~QuasiStaticSolver() = default;
@@ -190,7 +218,7 @@ struct QuasiStaticSolver::Run {
         record.assemblySeconds += secondsSince(assembly);
         hessianCurrent = true;
       }
-      found = exactDirection(record, d) || projectedDirection(record, d);
+      found = exactDirection(record, d) || preconditionedDirection(record, d) || projectedDirection(record, d);
     }
     record.factorSeconds = secondsSince(phase) - record.assemblySeconds;
     return found;
@@ -213,6 +241,24 @@ struct QuasiStaticSolver::Run {
     record.exactHessian = found;
     if (!found) exactBelow = 0.1 * forceNorm;
     return found;
+  }
+
+  // Inexact Newton on the projected Hessian: a few conjugate-gradient iterations preconditioned by the last
+  // factorisation cost a fraction of a new one, and where the Hessian has changed little they reach the
+  // tolerance. Not near the solution, where the exact Hessian's quadratic convergence needs exact solves.
+  bool preconditionedDirection(IterationRecord& record, Eigen::VectorXd& d) {
+    if (!(settings.preconditionedTolerance > 0.0) || settings.preconditionedIterations < 1 || !linear.factorized ||
+        forceNorm <= exactBelow)
+      return false;
+    Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower, FactorPreconditioner> cg;
+    cg.preconditioner().use(linear.cholesky);
+    cg.setTolerance(settings.preconditionedTolerance);
+    cg.setMaxIterations(settings.preconditionedIterations);
+    cg.compute(linear.H);
+    d = cg.solve(-g);
+    if (cg.info() != Eigen::Success || !d.allFinite() || !(d.dot(g) < 0.0)) return false;
+    record.conjugateGradientIterations = static_cast<int>(std::max<Eigen::Index>(cg.iterations(), 1));
+    return true;
   }
 
   bool projectedDirection(IterationRecord& record, Eigen::VectorXd& d) {

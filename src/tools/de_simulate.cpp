@@ -129,6 +129,7 @@ struct Options {
   double toolRadius = 0.004, depth = 0.004, dragDistance = 0.01, tolerance = 1e-8, maxSeconds = 600.0, fixTolerance = 1e-6;
   double exactBelow = elasticity::SolverOptions().exactHessianBelow;
   double reuseContraction = elasticity::SolverOptions().reuseContraction;
+  double preconditionedTolerance = elasticity::SolverOptions().preconditionedTolerance;
   bool checkCalculix = false;
   CLI::Option *skinThicknessOption = nullptr, *skinLayersOption = nullptr, *stepsOption = nullptr, *toleranceOption = nullptr;
 };
@@ -164,6 +165,9 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--max-seconds", o.maxSeconds, "time limit per step (s)");
   app.add_option("--exact-below", o.exactBelow, "try the exact Hessian once |f| <= this fraction of |f_0| (0 = never)");
   app.add_option("--reuse-contraction", o.reuseContraction, "reuse a factorisation after a step shrinking |f| to this fraction (0 = never)");
+  app.add_option("--preconditioned-tolerance", o.preconditionedTolerance,
+                 "conjugate gradients preconditioned by the last factorisation, to this relative residual, before "
+                 "a new factorisation (0 = always factorise)");
   app.add_option("--out", o.outDir, "output directory (OBJ per step, log.json)");
 }
 
@@ -174,6 +178,7 @@ elasticity::SolverOptions solverSettings(const Options& o) {
   settings.maxSeconds = o.maxSeconds;
   settings.exactHessianBelow = o.exactBelow;
   settings.reuseContraction = o.reuseContraction;
+  settings.preconditionedTolerance = o.preconditionedTolerance;
   settings.linearSolver = o.solverName == "cholmod" ? numerics::SparseCholeskyBackend::Cholmod
                           : o.solverName == "ldlt"  ? numerics::SparseCholeskyBackend::EigenSimplicial
                                                     : numerics::SparseCholeskyBackend::Default;
@@ -187,6 +192,7 @@ json newtonLog(const elasticity::SolveResult& result) {
                           {"relative_force_norm", record.relativeForceNorm}, {"step_length", record.stepLength},
                           {"line_search_steps", record.lineSearchSteps}, {"regularisation", record.regularisation},
                           {"exact_hessian", record.exactHessian}, {"reused_factorization", record.reusedFactorization},
+                          {"conjugate_gradient_iterations", record.conjugateGradientIterations},
                           {"assembly_s", record.assemblySeconds}, {"factor_solve_s", record.factorSeconds},
                           {"line_search_s", record.lineSearchSeconds}, {"elapsed_s", record.elapsedSeconds}});
   return iterations;

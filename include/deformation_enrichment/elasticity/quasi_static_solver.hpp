@@ -34,6 +34,7 @@ struct IterationRecord {
   double regularisation = 0.0;     ///< diagonal shift that made the system positive definite (0 usually)
   bool exactHessian = false;       ///< the step used the exact (not projected) Hessian
   bool reusedFactorization = false;  ///< chord step: the previous iteration's factorisation was reused
+  int conjugateGradientIterations = 0;  ///< > 0: the direction came from conjugate gradients preconditioned by it
   double assemblySeconds = 0.0, factorSeconds = 0.0, lineSearchSeconds = 0.0;
   double elapsedSeconds = 0.0;     ///< since the solve began
 };
@@ -59,6 +60,12 @@ struct SolverOptions {
   /// factorisation (chord step, one triangular solve); a chord step that does not contract as much, or
   /// fails the line search, triggers a fresh factorisation. 0 = factorise every iteration.
   double reuseContraction = 0.25;
+  /// Where a fresh factorisation would follow, first try conjugate gradients on the current projected
+  /// Hessian preconditioned by the last factorisation (inexact Newton [Nocedal06 §7.1]): the direction is
+  /// kept when the relative residual falls below this within `preconditionedIterations` iterations, else
+  /// the Hessian is factorised as before. 0 = always factorise.
+  double preconditionedTolerance = 0.1;
+  int preconditionedIterations = 8;
   numerics::SparseCholeskyBackend linearSolver = numerics::SparseCholeskyBackend::Default;
   std::function<void(const IterationRecord&)> callback;  ///< optional, called after each iteration
 };
