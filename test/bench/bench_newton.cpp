@@ -112,9 +112,12 @@ void registerCases() {
         ->Args({size.first, size.second, kLdlt, 1})->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
   }
 #ifdef DE_HAVE_CHOLMOD
-  if (std::getenv("DE_BENCH_LARGE"))
+  if (std::getenv("DE_BENCH_LARGE")) {  // 194688 tets
     benchmark::RegisterBenchmark("NewtonIndent/cholmod", BM_NewtonIndent)
-        ->Args({52, 11, kCholmod, 1})->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();  // 194688 tets
+        ->Args({52, 11, kCholmod, 1})->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+    benchmark::RegisterBenchmark("NewtonIndent/cholmod_chord_only", BM_NewtonIndent)
+        ->Args({52, 11, kCholmod, 2})->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+  }
 #endif
 }
 
