@@ -32,6 +32,7 @@ TEST(DeSimulateCli, DragWritesSurfacesAndLog) {
     EXPECT_TRUE(step["converged"].get<bool>());
     EXPECT_GT(step["iterations"].get<int>(), 0);
     EXPECT_EQ(step["newton"].size(), step["iterations"].get<std::size_t>());
+    for (const auto& iteration : step["newton"]) EXPECT_GE(iteration["conjugate_gradient_iterations"].get<int>(), 0);
   }
   // Last step: tool displaced 2 mm down and 4 mm along x.
   const auto displacement = log["steps"].back()["tool_displacement"];
@@ -49,4 +50,11 @@ TEST(DeSimulateCli, CommandLineErrorsExitOne) {
   EXPECT_EQ(WEXITSTATUS(run("--no-such-option")), 1);
   EXPECT_EQ(WEXITSTATUS(run("--scene slab --depth not-a-number")), 1);
   EXPECT_EQ(WEXITSTATUS(run("--help >/dev/null")), 0);
+  // Solver settings out of range are refused before anything is written.
+  const std::string out = testing::TempDir() + "de_simulate_bad_settings_" + std::to_string(::getpid());
+  std::filesystem::remove_all(out);
+  for (const char* tolerance : {"1", "-0.1", "nan"})
+    EXPECT_EQ(WEXITSTATUS(run(std::string("--scene slab --cells 4 4 2 --preconditioned-tolerance ") + tolerance + " --out " + out)), 1)
+        << tolerance;
+  EXPECT_FALSE(std::filesystem::exists(out));
 }
