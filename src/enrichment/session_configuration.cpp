@@ -39,9 +39,13 @@ std::unique_ptr<EnrichmentSession::Built> EnrichmentSession::build(const RestSur
   options.descriptors.deformationOrder = order;
   auto result = std::make_unique<Built>();
   // The descriptors see geometry only: detail acquired on another material fades with its difference.
-  if (options_.scene && set.metadata.provenance)
+  // A calibrated transfer gain replaces that fade for a set of another scene.
+  if (options_.scene && set.metadata.provenance) {
     result->materialSimilarity = materialSimilarity(set.metadata.provenance->scene, *options_.scene);
-  options.gain = knobs.gain.withStampGainTimes(result->materialSimilarity);
+    const bool transfer = set.metadata.provenance->scene.name != options_.scene->name;
+    result->stampScale = transfer && options_.transferGain > 0.0 ? options_.transferGain : result->materialSimilarity;
+  }
+  options.gain = knobs.gain.withStampGainTimes(result->stampScale);
   const mesh::TetMesh* volume = rest.geometry.volume ? &*rest.geometry.volume : nullptr;
   result->enricher = std::make_unique<ContactEnricher>(
       surfaceEnricher(rest.geometry.surface, volume, options, options_.density, &result->siteDensity));
@@ -114,8 +118,8 @@ void EnrichmentSession::setKnobs(const KnobOptions& requested) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (enricher_ && enricher_->enricher) {  // the values were checked above, so none of these throws
     ContactEnricher& enricher = *enricher_->enricher;
-    // The set's material similarity scales the gain as when the enricher was built.
-    enricher.setDetailGain(requested.gain.withStampGainTimes(enricher_->materialSimilarity));
+    // The set's stamp scale applies as when the enricher was built.
+    enricher.setDetailGain(requested.gain.withStampGainTimes(enricher_->stampScale));
     enricher.setKernelWidths(requested.sigmaRho, requested.sigmaU);  // O(N^3) in the examples: cheap
   }
   if (requested.temporalSmoothing != temporalFilter_.timeConstant()) temporalFilter_.setTimeConstant(requested.temporalSmoothing);
@@ -153,6 +157,7 @@ SessionDiagnostics EnrichmentSession::diagnostics() const {
     d.fittedWidths = enricher.loadedWidths();
     d.blend = toString(enricher.blender()->method());
     d.materialSimilarity = enricher_->materialSimilarity;
+    d.stampScale = enricher_->stampScale;
   }
   return d;
 }

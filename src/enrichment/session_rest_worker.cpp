@@ -41,6 +41,8 @@ EnrichmentSession::EnrichmentSession(SessionOptions options)
   const descriptors::SiteDensityOptions& d = options_.density;
   if (!(d.maxOutside >= 0.0) || !std::isfinite(d.shellThickness))
     throw InvalidInputError("site density: max_outside must be >= 0 and the shell thickness finite");
+  if (!(options_.transferGain >= 0.0) || !std::isfinite(options_.transferGain))
+    throw InvalidInputError("transfer gain must be >= 0 and finite (0: the material similarity)");
   worker_ = std::thread([this] { rebuildLoop(); });
 }
 

@@ -12,9 +12,11 @@
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "deformation_enrichment/acquisition/held_out_evaluation.hpp"
+#include "deformation_enrichment/acquisition/transfer_calibration.hpp"
 #include "deformation_enrichment/acquisition/plan_generation.hpp"
 #include "deformation_enrichment/enrichment/example_set_options.hpp"
 #include "deformation_enrichment/enrichment/example_set_reduction.hpp"
@@ -40,8 +42,9 @@ struct EvaluateOptions {
   double minConfidence = 0.0, maxWeightNorm = defaults.gain.maxWeightNorm, gain = 1.0, rimBand = defaults.rimBand;
   double sigmaRho = 0.0, sigmaU = 0.0, shellThickness = 0.0;
   double lambda = enrichment::RbfInterpolator::kDefaultRegularisation;
-  int repetitions = 5, heldOut = 8;
+  int repetitions = 5, heldOut = 8, calibrate = 0;
   unsigned seed = 1;
+  std::optional<unsigned> calibrationSeed;
 };
 
 void addOptions(CLI::App& app, EvaluateOptions& s) {
@@ -58,6 +61,10 @@ void addOptions(CLI::App& app, EvaluateOptions& s) {
                  "descriptors and stamp radius as --examples); one row each under \"also\"");
   app.add_option("--held-out", s.heldOut, "random held-out interactions without --contacts")->check(CLI::PositiveNumber);
   app.add_option("--seed", s.seed, "seed of the random held-out interactions");
+  app.add_option("--calibrate", s.calibrate, "transfer calibration (transfer_calibration.hpp): solve this many random contacts of "
+                 "the scene and scale the set's stamps by their smallest best gain instead of the material similarity "
+                 "(the node's ~transfer_gain; 0: no calibration)")->check(CLI::NonNegativeNumber);
+  app.add_option("--calibration-seed", s.calibrationSeed, "seed of the calibration contacts (default: --seed + 1; never --seed)");
   app.add_option("--learning-curve", s.learningCurve,
                  "ascending sizes N1,N2,...: score the first N examples of the set for each (a nested plan's prefixes "
                  "are the smaller sets)");
@@ -151,6 +158,8 @@ struct Evaluation {
   examples::ExampleSet set;
   std::string source;  // the scene the set was acquired on
   double similarity = 1.0;
+  double stampScale = 1.0;  // the set's stamps are scaled by this: the similarity or the calibrated transfer gain
+  json calibration = nullptr;
   enrichment::ContactEnricherOptions options;
   descriptors::SiteDensityOptions density;
   std::string densityDescription;
@@ -200,7 +209,8 @@ void prepare(Evaluation& ev) {
   ev.options = enrichment::optionsFor(ev.set, ev.options);
   // Detail of another tissue fades with its material's difference (the descriptors see geometry only).
   if (ev.set.metadata.provenance) ev.similarity = enrichment::materialSimilarity(ev.set.metadata.provenance->scene, ev.scene);
-  ev.options.gain.stampGain *= ev.similarity;
+  ev.stampScale = ev.similarity;
+  ev.options.gain.stampGain *= ev.stampScale;
   ev.density.source = descriptors::parseSiteDensitySource(s.densitySource);
   ev.density.shellThickness = s.shellThickness;
   ev.density.maxOutside = ev.scene.maxOutside;
@@ -250,7 +260,8 @@ json report(const Evaluation& ev, const std::vector<acquisition::PlanEntry>& con
   else if (blender.fit())
     looFit = {{"error", blender.fit()->bestError}, {"gain", blender.gain()}, {"error_with_gain", blender.fit()->gainedError}};
   return {{"scene", ev.scene.name}, {"source_scene", ev.source}, {"transfer", ev.source != ev.scene.name},
-          {"material_similarity", ev.similarity}, {"examples", ev.set.examples.size()}, {"example_set", s.set},
+          {"material_similarity", ev.similarity}, {"stamp_scale", ev.stampScale}, {"transfer_calibration", ev.calibration},
+          {"examples", ev.set.examples.size()}, {"example_set", s.set},
           {"contacts", contacts.size()},
           {"held_out", s.contacts.empty() ? json{{"random", s.heldOut}, {"seed", s.seed}} : json{{"file", s.contacts}}},
           {"stamp_radius", ev.options.stampRadius}, {"open_surface", s.open}, {"site_density", ev.densityDescription},
@@ -381,9 +392,36 @@ std::optional<acquisition::RecordedCoarse> recordedHeldOut(const Evaluation& ev)
 #endif
 }
 
-json evaluate(Evaluation& ev) {
-  prepare(ev);
+// Transfer calibration: fresh contacts of this scene scored with the set's stamps unscaled; the smallest of
+// their best gains replaces the material similarity for everything scored after it.
+void calibrate(Evaluation& ev) {
   const EvaluateOptions& s = ev.settings;
+  const unsigned seed = s.calibrationSeed.value_or(s.seed + 1);
+  const std::vector<acquisition::PlanEntry> entries = acquisition::randomContacts(*ev.acquisition, s.calibrate, seed);
+  std::cerr << "calibration contacts: " << entries.size() << " random, seed " << seed << "\n";
+  const std::vector<acquisition::HeldOutCase> cases = acquisition::simulateHeldOut(*ev.acquisition, entries, [&](std::size_t i) {
+    std::cerr << "[calibration " << i + 1 << "/" << entries.size() << "] simulating coarse and fine...\n";
+  });
+  enrichment::DetailGain unscaled = ev.options.gain;
+  unscaled.stampGain = s.gain;
+  ev.enricher->setDetailGain(unscaled);
+  const acquisition::TransferCalibration calibration = acquisition::calibrateTransfer(acquisition::scoreHeldOut(*ev.enricher, cases));
+  ev.stampScale = calibration.factor;
+  ev.options.gain.stampGain = s.gain * ev.stampScale;
+  ev.enricher->setDetailGain(ev.options.gain);
+  ev.calibration = {{"contacts", entries.size()}, {"seed", seed}, {"limits", calibration.limits}, {"transfer_gain", ev.stampScale}};
+  std::cerr << "calibrated transfer gain " << ev.stampScale << " (material similarity " << ev.similarity
+            << "): the node's ~transfer_gain for this set on this scene\n";
+}
+
+json evaluate(Evaluation& ev) {
+  const EvaluateOptions& s = ev.settings;
+  if (s.calibrate > 0 && !s.coarseBag.empty())
+    throw InvalidInputError("--calibrate solves the scene's own coarse model: not with --coarse-bag");
+  if (s.calibrate > 0 && s.contacts.empty() && s.calibrationSeed == s.seed)
+    throw InvalidInputError("--calibration-seed must differ from --seed: the calibration contacts would be the held-out ones");
+  prepare(ev);
+  if (s.calibrate > 0) calibrate(ev);
   const std::vector<std::size_t> sizes = s.learningCurve.empty() ? std::vector<std::size_t>()
                                                                  : parseSizes(s.learningCurve, ev.set.examples.size());
   const std::optional<acquisition::RecordedCoarse> recorded = recordedHeldOut(ev);

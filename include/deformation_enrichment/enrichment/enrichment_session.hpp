@@ -59,6 +59,10 @@ struct SessionOptions {
   /// materialSimilarity(set's scene, this scene) (material_similarity.hpp); none, or a set without
   /// provenance: 1.
   std::optional<scene_file::SceneDescription> scene;
+  /// A set acquired on another scene than `scene` has its stamps scaled by this instead of the material
+  /// similarity when > 0: a transfer gain calibrated on fine solves of this scene (de_evaluate --calibrate,
+  /// transfer_calibration.hpp). It belongs to one set on one scene.
+  double transferGain = 0.0;
   /// Receives what the worker did (a rest surface built or refused); called from the worker thread.
   std::function<void(SessionLogLevel, const std::string&)> log;
 };
@@ -109,7 +113,8 @@ struct SessionDiagnostics {
   int hermiteOrder = 0;               ///< in use (0: no enricher)
   KernelWidths widths, fittedWidths;
   std::string blend;                  ///< the active blend ("paper", "regression"; empty: no enricher)
-  double materialSimilarity = 1.0;    ///< the active set's stamp scale for the scene's material
+  double materialSimilarity = 1.0;    ///< of the active set's scene and this scene's material
+  double stampScale = 1.0;            ///< on the active set's stamps: the similarity or the transfer gain
   std::uint64_t statesReused = 0;
 };
 

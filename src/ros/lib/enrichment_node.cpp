@@ -221,7 +221,8 @@ void EnrichmentNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& statu
   status.add("parameters refused at start-up (defaults used)", refused.empty() ? "none" : refused);
   status.add("blend requested", enrichment::toString(knobs.blend));
   status.add("blend", session.blend);
-  status.add("material similarity (stamp scale)", session.materialSimilarity);
+  status.add("material similarity", session.materialSimilarity);
+  status.add("stamp scale (similarity or ~transfer_gain)", session.stampScale);
   status.add("stamp gain", knobs.gain.stampGain);
   status.add("min confidence", knobs.gain.minConfidence);
   status.add("max weight norm (0 = no bound)", knobs.gain.maxWeightNorm);

@@ -50,6 +50,7 @@ void readSession(ParameterReader& read, EnrichmentNodeOptions& p) {
   density.source = descriptors::parseSiteDensitySource(
       read("site_density", std::string("auto"), parses(descriptors::parseSiteDensitySource), "auto, surface, volume or shell"));
   density.shellThickness = read("shell_thickness", 0.0, nonNegative, ">= 0 (0: three window scales)");
+  p.session.transferGain = read("transfer_gain", 0.0, nonNegative, ">= 0 (0: the material similarity)");
   // What de_evaluate's --rim-band, --correlation-only, --lambda and --no-cv-gain score, for the node.
   defaults.rimBand = read("rim_band", defaults.rimBand, [](double v) { return v >= 0.0 && v < 1.0; }, "in [0, 1)");
   defaults.magnitudeAware = read("magnitude_aware", defaults.magnitudeAware);

@@ -318,14 +318,18 @@ TEST(EnrichmentSession, ASetOfAnotherMaterialIsScaledByTheMaterialSimilarity) {
   examples::ExampleSet set = sessionSet();
   set.metadata.provenance = examples::Provenance{};
   set.metadata.provenance->scene.material = {1e4, 0.45};
-  const auto addedFor = [&](std::optional<scene_file::SceneDescription> scene, double& similarity) {
+  set.metadata.provenance->scene.name = "slab";
+  const auto addedFor = [&](std::optional<scene_file::SceneDescription> scene, double& similarity, double transferGain = 0.0) {
     enrichment::SessionOptions options = sessionOptions();
     options.scene = std::move(scene);
+    options.transferGain = transferGain;
     EnrichmentSession session(options);
     session.setExampleSet(set);
     session.setRestGeometry({rest, std::nullopt, "test"});
     session.waitForRebuild();
     similarity = session.diagnostics().materialSimilarity;
+    const bool transfer = options.scene && options.scene->name != "slab";
+    EXPECT_EQ(session.diagnostics().stampScale, transfer && transferGain > 0.0 ? transferGain : similarity);
     const Eigen::Matrix3Xf state = dentedState(rest);
     EXPECT_EQ(session.enrich(state, toolAt(state, rest), 1.0).kind, FrameResult::Kind::Enriched);
     const Eigen::Matrix3Xf added = session.enrichedPositions() - state;
@@ -350,4 +354,16 @@ TEST(EnrichmentSession, ASetOfAnotherMaterialIsScaledByTheMaterialSimilarity) {
   ASSERT_GT(full.norm(), 0.0f);
   EXPECT_NEAR(scaled.norm(), std::exp(-0.5) * full.norm(), 1e-3 * full.norm());
   EXPECT_TRUE(withoutScene == full) << "no scene: the stamps as acquired";
+  // A calibrated transfer gain replaces the similarity for a set of another scene, not for the set's own.
+  double transferred = 0.0, own = 0.0;
+  scene_file::SceneDescription other = tissue;
+  other.name = "liver";
+  const Eigen::Matrix3Xf calibrated = addedFor(other, transferred, 3.0);
+  EXPECT_NEAR(transferred, std::exp(-0.5), 1e-12);
+  EXPECT_NEAR(calibrated.norm(), 3.0 * full.norm(), 3e-3 * full.norm());
+  const Eigen::Matrix3Xf ownScene = addedFor(tissue, own, 3.0);
+  EXPECT_NEAR(ownScene.norm(), std::exp(-0.5) * full.norm(), 1e-3 * full.norm());
+  enrichment::SessionOptions negative = sessionOptions();
+  negative.transferGain = -1.0;
+  EXPECT_THROW(EnrichmentSession{negative}, InvalidInputError);
 }
