@@ -62,8 +62,9 @@ void addOptions(CLI::App& app, EvaluateOptions& s) {
   app.add_option("--held-out", s.heldOut, "random held-out interactions without --contacts")->check(CLI::PositiveNumber);
   app.add_option("--seed", s.seed, "seed of the random held-out interactions");
   app.add_option("--calibrate", s.calibrate, "transfer calibration (transfer_calibration.hpp): solve this many random contacts of "
-                 "the scene and scale the set's stamps by their smallest best gain instead of the material similarity "
-                 "(the node's ~transfer_gain; 0: no calibration)")->check(CLI::NonNegativeNumber);
+                 "the scene and scale the set's stamps by the smallest limit they allow (a contact's best gain, or 5 % worse "
+                 "than coarse where its detail points away) instead of the material similarity (the node's ~transfer_gain; "
+                 "0: no calibration)")->check(CLI::NonNegativeNumber);
   app.add_option("--calibration-seed", s.calibrationSeed, "seed of the calibration contacts (default: --seed + 1; never --seed)");
   app.add_option("--learning-curve", s.learningCurve,
                  "ascending sizes N1,N2,...: score the first N examples of the set for each (a nested plan's prefixes "
