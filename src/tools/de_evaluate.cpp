@@ -3,9 +3,10 @@
 // truth) of each held-out contact once (random, seeded, unless given), enriches the coarse state with the
 // example set and prints one JSON object: RMS errors against the fine solution over the fine surface vertices
 // within the stamp radius, per-contact details and bounds (held_out_evaluation.hpp), maxima and compute time
-// per frame. --learning-curve scores prefixes of the set (error against number of examples, [Seiler14
-// Fig. 7]); --curves scores stamp resolutions and Hermite orders (run time against error). Plot both with
-// scripts/plot_evaluation.
+// per frame. --calibrate scales another scene's set by a gain calibrated on fresh contacts of this one
+// (transfer_calibration.hpp). --learning-curve scores prefixes of the set (error against number of examples,
+// [Seiler14 Fig. 7]); --curves scores stamp resolutions and Hermite orders (run time against error). Plot
+// both with scripts/plot_evaluation.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
@@ -16,8 +17,8 @@
 #include <sstream>
 
 #include "deformation_enrichment/acquisition/held_out_evaluation.hpp"
-#include "deformation_enrichment/acquisition/transfer_calibration.hpp"
 #include "deformation_enrichment/acquisition/plan_generation.hpp"
+#include "deformation_enrichment/acquisition/transfer_calibration.hpp"
 #include "deformation_enrichment/enrichment/example_set_options.hpp"
 #include "deformation_enrichment/enrichment/example_set_reduction.hpp"
 #include "deformation_enrichment/enrichment/material_similarity.hpp"
@@ -393,8 +394,8 @@ std::optional<acquisition::RecordedCoarse> recordedHeldOut(const Evaluation& ev)
 #endif
 }
 
-// Transfer calibration: fresh contacts of this scene scored with the set's stamps unscaled; the smallest of
-// their best gains replaces the material similarity for everything scored after it.
+// Transfer calibration: fresh contacts of this scene scored with the set's stamps unscaled; the smallest limit
+// they allow (transfer_calibration.hpp) replaces the material similarity for everything scored after it.
 void calibrate(Evaluation& ev) {
   const EvaluateOptions& s = ev.settings;
   const unsigned seed = s.calibrationSeed.value_or(s.seed + 1);
@@ -411,8 +412,9 @@ void calibrate(Evaluation& ev) {
   ev.options.gain.stampGain = s.gain * ev.stampScale;
   ev.enricher->setDetailGain(ev.options.gain);
   ev.calibration = {{"contacts", entries.size()}, {"seed", seed}, {"limits", calibration.limits}, {"transfer_gain", ev.stampScale}};
-  std::cerr << "calibrated transfer gain " << ev.stampScale << " (material similarity " << ev.similarity
-            << "): the node's ~transfer_gain for this set on this scene\n";
+  std::cerr << "calibrated transfer gain " << ev.stampScale << " (material similarity " << ev.similarity << ")"
+            << (ev.source != ev.scene.name ? ": the node's ~transfer_gain for this set on this scene\n"
+                                           : ": the set is this scene's own, where the node applies no ~transfer_gain\n");
 }
 
 json evaluate(Evaluation& ev) {
